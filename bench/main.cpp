@@ -1,0 +1,86 @@
+// romp-bench: runs the requested suites on the CPU (and the GPU when present) and writes CSV + JSON.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "bench/harness.h"
+#include "bench/report.h"
+#include "bench/suites/suites.h"
+#include "host/backend_selection.h"
+
+namespace {
+
+using romp::bench::Suite;
+
+// Order matters: later suites may read records of earlier ones (svd compares with memory's copy bandwidth).
+const std::vector<Suite> kSuites = {
+    {"memory", "copy bandwidth of each backend (the bound for memory-bound kernels)", romp::bench::run_memory_suite},
+};
+
+std::string joined_command(int argc, char** argv) {
+  std::string command;
+  for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
+  return command;
+}
+
+std::string timestamp() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  char text[32];
+  std::strftime(text, sizeof text, "%Y%m%d-%H%M%S", std::gmtime(&now));
+  return text;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"romp-bench: timed suites with medians over repeats, written as CSV and JSON"};
+  std::vector<std::string> requested;
+  std::string device = "auto";
+  std::string out_directory = "romp-bench-results";
+  std::string stem;
+  romp::bench::Options options;
+  std::vector<std::string> suite_names;
+  for (const Suite& suite : kSuites) suite_names.push_back(suite.name);
+
+  app.add_option("--suite", requested, "Suites to run (default: all)")->check(CLI::IsMember(suite_names));
+  app.add_option("--device", device, "auto (CPU, plus CUDA if a device answers), cpu or cuda")
+      ->check(CLI::IsMember({"auto", "cpu", "cuda"}));
+  app.add_option("--threads", options.cpu_threads, "CPU thread counts to measure")->check(CLI::PositiveNumber);
+  app.add_option("--repeats", options.repeats, "Timed repeats; the median is reported")->check(CLI::PositiveNumber);
+  app.add_option("--warmup", options.warmup, "Untimed runs before timing")->check(CLI::NonNegativeNumber);
+  app.add_option("--scale", options.scale, "Multiplies every problem size")->check(CLI::PositiveNumber);
+  app.add_option("--out", out_directory, "Folder for the CSV and JSON records");
+  app.add_option("--name", stem, "File stem of the records (default: bench-<UTC time>)");
+  app.add_flag_callback("--list", [] {
+    for (const Suite& suite : kSuites) fmt::print("{:<10} {}\n", suite.name, suite.summary);
+    throw CLI::Success();
+  }, "List the suites and exit");
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    const romp::DeviceChoice choice = romp::parse_device_choice(device);
+    const romp::Exec exec = romp::select_backend(choice);
+    options.use_cuda = exec.is_cuda();
+    options.cuda_device = exec.device;
+    if (choice == romp::DeviceChoice::Cuda) options.cpu_threads.clear();
+
+    romp::bench::Context context(options, joined_command(argc, argv));
+    for (const Suite& suite : kSuites) {
+      if (!requested.empty() && std::find(requested.begin(), requested.end(), suite.name) == requested.end()) continue;
+      suite.run(context);
+    }
+    if (stem.empty()) stem = "bench-" + timestamp();
+    romp::bench::write_report(context, out_directory, stem);
+    fmt::print("wrote {}/{}.csv and .json\n", out_directory, stem);
+    return 0;
+  } catch (const std::exception& error) {
+    fmt::print(stderr, "romp-bench: {}\n", error.what());
+    return 1;
+  }
+}

@@ -1,0 +1,47 @@
+# Finds LibTorch without letting it disturb the CUDA configuration of the rest of the build.
+#
+# Debian's libtorch-dev (CPU) is found through the default prefixes. On GPU machines the LibTorch
+# inside the PyTorch install is used: when Torch_DIR is not given, ask the Python interpreter.
+# Torch's package config (Caffe2's public/cuda.cmake) rewrites CMAKE_CUDA_ARCHITECTURES and
+# CMAKE_CUDA_FLAGS from TORCH_CUDA_ARCH_LIST and attaches host-only link options to its targets.
+# We restore the CUDA variables afterwards, and only C++ targets (nn/, host/) ever link Torch.
+if(NOT Torch_DIR)
+  find_package(Python3 COMPONENTS Interpreter QUIET)
+  if(Python3_Interpreter_FOUND)
+    execute_process(
+      COMMAND "${Python3_EXECUTABLE}" -c "import torch.utils; print(torch.utils.cmake_prefix_path)"
+      OUTPUT_VARIABLE _romp_torch_prefix OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET
+      RESULT_VARIABLE _romp_torch_rc)
+    if(_romp_torch_rc EQUAL 0 AND EXISTS "${_romp_torch_prefix}")
+      list(APPEND CMAKE_PREFIX_PATH "${_romp_torch_prefix}")
+    endif()
+  endif()
+endif()
+
+set(_romp_saved_cuda_arch "${CMAKE_CUDA_ARCHITECTURES}")
+set(_romp_saved_cuda_flags "${CMAKE_CUDA_FLAGS}")
+find_package(Torch REQUIRED)
+set(CMAKE_CUDA_ARCHITECTURES "${_romp_saved_cuda_arch}")
+set(CMAKE_CUDA_FLAGS "${_romp_saved_cuda_flags}")
+
+# LibTorch built with CUDA ships torch_cuda (or c10_cuda) next to torch_cpu.
+set(ROMP_TORCH_CUDA OFF)
+foreach(_lib IN LISTS TORCH_LIBRARIES)
+  if(_lib MATCHES "torch_cuda|c10_cuda")
+    set(ROMP_TORCH_CUDA ON)
+  endif()
+endforeach()
+if(TARGET torch_cuda OR TARGET c10_cuda)
+  set(ROMP_TORCH_CUDA ON)
+endif()
+
+# One interface target for the C++ code that uses Torch: its flags, its libraries, and the
+# information `romp info` reports.
+add_library(romp_torch INTERFACE)
+target_link_libraries(romp_torch INTERFACE ${TORCH_LIBRARIES})
+target_compile_definitions(romp_torch INTERFACE ROMP_TORCH_CUDA=$<BOOL:${ROMP_TORCH_CUDA}>)
+# The libstdc++ ABI LibTorch was built with must hold for every romp object, not only the ones
+# that include Torch headers: std::string crosses between all the libraries.
+if(TORCH_CXX_FLAGS MATCHES "-D_GLIBCXX_USE_CXX11_ABI=([01])")
+  add_compile_definitions(_GLIBCXX_USE_CXX11_ABI=${CMAKE_MATCH_1})
+endif()

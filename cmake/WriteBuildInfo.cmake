@@ -1,0 +1,22 @@
+# Script mode (cmake -P): fills build_info.cpp.in with the current commit and the configuration.
+execute_process(COMMAND git -C "${SOURCE_DIR}" rev-parse --short=12 HEAD
+  OUTPUT_VARIABLE ROMP_COMMIT OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0 OR ROMP_COMMIT STREQUAL "")
+  set(ROMP_COMMIT "unknown")
+else()
+  execute_process(COMMAND git -C "${SOURCE_DIR}" status --porcelain --untracked-files=no
+    OUTPUT_VARIABLE dirty OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+  if(NOT dirty STREQUAL "")
+    string(APPEND ROMP_COMMIT "-dirty")
+  endif()
+endif()
+foreach(flag ROMP_WITH_CUDA ROMP_TORCH_CUDA)
+  if(${flag})
+    set(${flag}_CXX true)
+  else()
+    set(${flag}_CXX false)
+  endif()
+endforeach()
+configure_file("${TEMPLATE}" "${OUTPUT}.tmp" @ONLY)
+file(COPY_FILE "${OUTPUT}.tmp" "${OUTPUT}" ONLY_IF_DIFFERENT)
+file(REMOVE "${OUTPUT}.tmp")

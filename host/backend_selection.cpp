@@ -1,0 +1,55 @@
+// Runtime backend selection and its one-time report.
+#include "host/backend_selection.h"
+
+#include <omp.h>
+#include <spdlog/spdlog.h>
+
+#include <mutex>
+
+#include "kernels/core/error.h"
+
+namespace romp {
+
+DeviceChoice parse_device_choice(const std::string& text) {
+  if (text == "auto") return DeviceChoice::Auto;
+  if (text == "cpu") return DeviceChoice::Cpu;
+  if (text == "cuda") return DeviceChoice::Cuda;
+  throw Error("--device '" + text + "': allowed values are auto, cpu, cuda");
+}
+
+Exec select_exec(DeviceChoice choice, const CudaProbe& probe, int cpu_threads) {
+  ROMP_CHECK(cpu_threads >= 0, "--threads must be >= 0 (0 = OpenMP default), got " + std::to_string(cpu_threads));
+  const bool cuda_ready = !probe.devices.empty();
+  if (choice == DeviceChoice::Cuda && !cuda_ready) {
+    if (!probe.compiled)
+      throw Error("--device cuda: this build of romp has no CUDA backend (rebuild with nvcc and ROMP_CUDA=AUTO or ON)");
+    throw Error("--device cuda: no CUDA device answered (" + probe.status + ")");
+  }
+  if (choice != DeviceChoice::Cpu && cuda_ready) return Exec::cuda(probe.devices.front().ordinal);
+  return Exec::cpu(cpu_threads);
+}
+
+std::string describe_selection(const Exec& exec, const CudaProbe& probe) {
+  if (exec.is_cuda()) {
+    for (const CudaDevice& device : probe.devices) {
+      if (device.ordinal != exec.device) continue;
+      return "backend: cuda (device " + std::to_string(device.ordinal) + ": " + device.name + ", sm_" +
+             std::to_string(device.compute_major) + std::to_string(device.compute_minor) + ")";
+    }
+  }
+  const int threads = exec.threads > 0 ? exec.threads : omp_get_max_threads();
+  std::string line = "backend: cpu (" + std::to_string(threads) + " OpenMP threads)";
+  if (probe.devices.empty()) line += "; CUDA: " + probe.status;
+  return line;
+}
+
+Exec select_backend(DeviceChoice choice, int cpu_threads) {
+  const CudaProbe probe = probe_cuda();
+  const Exec exec = select_exec(choice, probe, cpu_threads);
+  if (exec.is_cuda()) set_cuda_device(exec.device);
+  static std::once_flag reported;
+  std::call_once(reported, [&] { spdlog::info("{}", describe_selection(exec, probe)); });
+  return exec;
+}
+
+}  // namespace romp

@@ -1,0 +1,72 @@
+// romp::for_each(exec, n, functor): runs functor(i) for i in [0, n) as a CUDA kernel or an OpenMP loop.
+//
+// The functor's operator()(Index) is ROMP_HD, so one definition serves both backends. A translation
+// unit that launches on CUDA must be compiled by nvcc (a .cu file; see romp_single_source in
+// cmake/RompCuda.cmake); the same file compiled as C++ keeps only the CPU path.
+#pragma once
+
+#include <omp.h>
+
+#include <climits>
+#include <string>
+
+#include "kernels/core/error.h"
+#include "kernels/core/exec.h"
+#include "kernels/core/hd.h"
+
+#if defined(__CUDACC__)
+#include "kernels/core/cuda_check.h"
+#endif
+
+namespace romp {
+namespace detail {
+
+template <class F>
+void for_each_cpu(const Exec& exec, Index n, const F& functor) {
+  const int threads = exec.threads > 0 ? exec.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (Index i = 0; i < n; ++i) functor(i);
+}
+
+#if defined(__CUDACC__)
+// Threads per block for element-wise launches: a multiple of the warp size that keeps occupancy
+// high on sm_80/sm_90 for register-light functors.
+inline constexpr int kForEachBlockSize = 256;
+
+template <class F>
+__global__ void for_each_kernel(Index n, F functor) {
+  const Index i = Index(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (i < n) functor(i);
+}
+
+template <class F>
+void for_each_cuda(const Exec& exec, Index n, const F& functor) {
+  const Index blocks = (n + kForEachBlockSize - 1) / kForEachBlockSize;
+  ROMP_CHECK(blocks <= INT_MAX, "for_each: " + std::to_string(n) + " elements exceed one CUDA launch");
+  for_each_kernel<<<unsigned(blocks), kForEachBlockSize, 0, exec.stream>>>(n, functor);
+  ROMP_CUDA_CHECK(cudaGetLastError());
+#if !defined(NDEBUG) || defined(ROMP_SYNC_LAUNCHES)
+  // Debug builds surface asynchronous faults at the launch that caused them.
+  ROMP_CUDA_CHECK(cudaStreamSynchronize(exec.stream));
+#endif
+}
+#endif
+
+}  // namespace detail
+
+template <class F>
+void for_each(const Exec& exec, Index n, const F& functor) {
+  if (n <= 0) return;
+  if (exec.is_cuda()) {
+#if defined(__CUDACC__)
+    detail::for_each_cuda(exec, n, functor);
+    return;
+#else
+    throw Error("for_each on the CUDA backend from a translation unit not compiled by nvcc; "
+                "launch it from a .cu file listed with romp_single_source()");
+#endif
+  }
+  detail::for_each_cpu(exec, n, functor);
+}
+
+}  // namespace romp

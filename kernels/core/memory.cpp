@@ -1,0 +1,88 @@
+// Allocation and copies: aligned host memory on the CPU, cudaMalloc/cudaMemcpy on CUDA.
+#include "kernels/core/memory.h"
+
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "kernels/core/error.h"
+
+#if defined(ROMP_WITH_CUDA)
+#include "kernels/core/cuda_check.h"
+#endif
+
+namespace romp::memory {
+namespace {
+
+[[noreturn]] void no_cuda_backend() {
+  throw Error("the CUDA backend is not compiled into this build of romp (configure with ROMP_CUDA=ON and nvcc)");
+}
+
+#if defined(ROMP_WITH_CUDA)
+cudaMemcpyKind copy_kind(Backend destination, Backend source) {
+  if (source == Backend::Cpu) return destination == Backend::Cpu ? cudaMemcpyHostToHost : cudaMemcpyHostToDevice;
+  return destination == Backend::Cpu ? cudaMemcpyDeviceToHost : cudaMemcpyDeviceToDevice;
+}
+#endif
+
+}  // namespace
+
+void* allocate(Backend backend, std::size_t bytes) {
+  if (bytes == 0) return nullptr;
+  if (backend == Backend::Cpu) {
+    const std::size_t rounded = (bytes + kHostAlignment - 1) / kHostAlignment * kHostAlignment;
+    void* pointer = std::aligned_alloc(kHostAlignment, rounded);
+    ROMP_CHECK(pointer != nullptr, "out of host memory allocating " + std::to_string(bytes) + " bytes");
+    return pointer;
+  }
+#if defined(ROMP_WITH_CUDA)
+  void* pointer = nullptr;
+  ROMP_CUDA_CHECK(cudaMalloc(&pointer, bytes));
+  return pointer;
+#else
+  no_cuda_backend();
+#endif
+}
+
+void release(Backend backend, void* pointer) noexcept {
+  if (pointer == nullptr) return;
+  if (backend == Backend::Cpu) {
+    std::free(pointer);
+    return;
+  }
+#if defined(ROMP_WITH_CUDA)
+  ROMP_CUDA_CHECK_NOTHROW(cudaFree(pointer));
+#endif
+}
+
+void copy(void* destination, Backend destination_backend, const void* source, Backend source_backend,
+          std::size_t bytes, Stream stream) {
+  if (bytes == 0) return;
+  if (destination_backend == Backend::Cpu && source_backend == Backend::Cpu) {
+    std::memcpy(destination, source, bytes);
+    return;
+  }
+#if defined(ROMP_WITH_CUDA)
+  ROMP_CUDA_CHECK(cudaMemcpyAsync(destination, source, bytes, copy_kind(destination_backend, source_backend), stream));
+  ROMP_CUDA_CHECK(cudaStreamSynchronize(stream));
+#else
+  (void)stream;
+  no_cuda_backend();
+#endif
+}
+
+void fill_zero(void* destination, Backend backend, std::size_t bytes, Stream stream) {
+  if (bytes == 0) return;
+  if (backend == Backend::Cpu) {
+    std::memset(destination, 0, bytes);
+    return;
+  }
+#if defined(ROMP_WITH_CUDA)
+  ROMP_CUDA_CHECK(cudaMemsetAsync(destination, 0, bytes, stream));
+#else
+  (void)stream;
+  no_cuda_backend();
+#endif
+}
+
+}  // namespace romp::memory

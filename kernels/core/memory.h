@@ -1,0 +1,25 @@
+// Raw allocation, copies and fills on either backend; DeviceBuffer<T> is built on these.
+#pragma once
+
+#include <cstddef>
+
+#include "kernels/core/exec.h"
+
+namespace romp::memory {
+
+// CPU memory is aligned to a cache line so SoA planes start on a line boundary, as on the GPU.
+inline constexpr std::size_t kHostAlignment = 64;
+
+// Returns nullptr for zero bytes. Throws romp::Error when the backend is unavailable or memory runs out.
+void* allocate(Backend backend, std::size_t bytes);
+void release(Backend backend, void* pointer) noexcept;
+
+// Copies `bytes` between any two backends. The copy is ordered after earlier work on `stream`
+// and complete when the call returns, so host memory may be reused at once.
+void copy(void* destination, Backend destination_backend, const void* source, Backend source_backend,
+          std::size_t bytes, Stream stream = nullptr);
+
+// Sets `bytes` to zero, ordered on `stream` (asynchronous on CUDA).
+void fill_zero(void* destination, Backend backend, std::size_t bytes, Stream stream = nullptr);
+
+}  // namespace romp::memory

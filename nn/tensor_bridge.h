@@ -1,0 +1,29 @@
+// Zero-copy bridge between engine memory (Span, DeviceBuffer) and torch::Tensor, with guards.
+#pragma once
+
+#include <torch/torch.h>
+
+#include <string>
+
+#include "kernels/core/exec.h"
+#include "kernels/core/span.h"
+
+namespace romp::nn {
+
+// The torch device that corresponds to `exec` (kCPU, or kCUDA with exec.device).
+torch::Device torch_device(const Exec& exec);
+
+// The Exec a tensor's data lives on; on CUDA it uses PyTorch's current stream for that device, so
+// romp kernels and LibTorch ops on the same tensors stay ordered.
+Exec exec_for(const torch::Tensor& tensor);
+
+// A tensor of `shape` that aliases `span` (no copy). The span must outlive the tensor.
+template <class T>
+torch::Tensor as_tensor(Span<T> span, const Exec& exec, c10::IntArrayRef shape);
+
+// A view of a tensor's elements (no copy). Checks, and names `what` in the error if one fails:
+// dtype is T, the tensor is contiguous and on `exec`'s device.
+template <class T>
+Span<T> as_span(const torch::Tensor& tensor, const Exec& exec, const std::string& what);
+
+}  // namespace romp::nn

@@ -1,0 +1,83 @@
+// Backend selection: CUDA when a device answers, the CPU otherwise, and a clear error when the
+// user insists on a device that is not there.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "host/backend_selection.h"
+#include "kernels/core/error.h"
+
+namespace romp {
+namespace {
+
+CudaProbe probe_without_devices(bool compiled) {
+  CudaProbe probe;
+  probe.compiled = compiled;
+  probe.status = compiled ? "cudaErrorNoDevice: no CUDA-capable device is detected"
+                          : "the CUDA backend is not compiled into this build";
+  return probe;
+}
+
+CudaProbe probe_with_one_device() {
+  CudaProbe probe;
+  probe.compiled = true;
+  probe.devices.push_back(CudaDevice{0, "Test GPU", 9, 0, 132, std::size_t(80) << 30});
+  probe.status = "ok";
+  return probe;
+}
+
+TEST(BackendSelection, AutoPrefersCudaWhenADeviceAnswers) {
+  EXPECT_EQ(select_exec(DeviceChoice::Auto, probe_with_one_device()).backend, Backend::Cuda);
+  EXPECT_EQ(select_exec(DeviceChoice::Auto, probe_without_devices(true)).backend, Backend::Cpu);
+  EXPECT_EQ(select_exec(DeviceChoice::Auto, probe_without_devices(false)).backend, Backend::Cpu);
+}
+
+TEST(BackendSelection, CpuChoiceOverridesAnAvailableDevice) {
+  const Exec exec = select_exec(DeviceChoice::Cpu, probe_with_one_device(), 3);
+  EXPECT_EQ(exec.backend, Backend::Cpu);
+  EXPECT_EQ(exec.threads, 3);
+}
+
+TEST(BackendSelection, CudaWithoutADeviceSaysWhy) {
+  try {
+    select_exec(DeviceChoice::Cuda, probe_without_devices(true));
+    FAIL() << "selected CUDA with no device";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("no CUDA-capable device"), std::string::npos);
+  }
+  try {
+    select_exec(DeviceChoice::Cuda, probe_without_devices(false));
+    FAIL() << "selected CUDA in a build without it";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("no CUDA backend"), std::string::npos);
+  }
+}
+
+TEST(BackendSelection, ParsesOnlyTheDocumentedChoices) {
+  EXPECT_EQ(parse_device_choice("auto"), DeviceChoice::Auto);
+  EXPECT_EQ(parse_device_choice("cpu"), DeviceChoice::Cpu);
+  EXPECT_EQ(parse_device_choice("cuda"), DeviceChoice::Cuda);
+  EXPECT_THROW(parse_device_choice("gpu"), Error);
+}
+
+TEST(BackendSelection, DescriptionNamesTheDeviceOrTheReason) {
+  const CudaProbe with = probe_with_one_device();
+  EXPECT_EQ(describe_selection(Exec::cuda(0), with), "backend: cuda (device 0: Test GPU, sm_90)");
+  const CudaProbe without = probe_without_devices(true);
+  const std::string cpu = describe_selection(Exec::cpu(2), without);
+  EXPECT_NE(cpu.find("backend: cpu (2 OpenMP threads)"), std::string::npos);
+  EXPECT_NE(cpu.find("no CUDA-capable device"), std::string::npos);
+}
+
+TEST(BackendSelection, ThisMachineAnswersConsistently) {
+  // What the real probe finds decides the automatic choice; the test holds on any machine.
+  const CudaProbe probe = probe_cuda();
+  const Exec exec = select_exec(DeviceChoice::Auto, probe);
+  EXPECT_EQ(exec.is_cuda(), !probe.devices.empty());
+#if !defined(ROMP_WITH_CUDA)
+  EXPECT_FALSE(probe.compiled);
+#endif
+}
+
+}  // namespace
+}  // namespace romp

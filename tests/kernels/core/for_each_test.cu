@@ -1,0 +1,57 @@
+// romp::for_each visits every index exactly once, on the backend the test binary was started with.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "kernels/core/device_buffer.h"
+#include "kernels/core/for_each.h"
+#include "tests/support/test_exec.h"
+
+namespace romp {
+namespace {
+
+struct CountVisits {
+  Span<int> visits;
+  ROMP_HD void operator()(Index i) const { visits[i] += 1; }
+};
+
+struct WriteSquare {
+  Span<double> out;
+  ROMP_HD void operator()(Index i) const { out[i] = double(i) * double(i); }
+};
+
+std::vector<int> visit_counts(const Exec& exec, Index n) {
+  DeviceBuffer<int> visits(exec.backend, n);
+  visits.fill_zero(exec.stream);
+  for_each(exec, n, CountVisits{visits.span()});
+  return visits.to_host(exec.stream);
+}
+
+TEST(ForEach, VisitsEveryIndexExactlyOnce) {
+  // Sizes around the CUDA block size and far from any multiple of it.
+  for (Index n : {Index(1), Index(255), Index(256), Index(257), Index(100003)}) {
+    const std::vector<int> visits = visit_counts(test::exec(), n);
+    ASSERT_EQ(Index(visits.size()), n);
+    for (Index i = 0; i < n; ++i) ASSERT_EQ(visits[i], 1) << "index " << i << " of " << n;
+  }
+}
+
+TEST(ForEach, ZeroElementsLaunchNothing) {
+  // A null span would fault if the functor ran.
+  for_each(test::exec(), 0, CountVisits{Span<int>()});
+  synchronize(test::exec());
+}
+
+TEST(ForEach, SameResultForEveryCpuThreadCount) {
+  constexpr Index n = 4099;
+  for (int threads : {1, 2, 7}) {
+    const Exec exec = test::exec_with_threads(threads);
+    DeviceBuffer<double> out(exec.backend, n);
+    for_each(exec, n, WriteSquare{out.span()});
+    const std::vector<double> host = out.to_host(exec.stream);
+    for (Index i = 0; i < n; ++i) ASSERT_EQ(host[i], double(i) * double(i)) << "threads " << threads;
+  }
+}
+
+}  // namespace
+}  // namespace romp
