@@ -1,4 +1,5 @@
-// Atomic add, min and max on one address, for both backends. Each returns the previous value.
+// Atomic add, min, max and compare-and-swap on one address, for both backends. Each returns the
+// previous value.
 //
 // Device: the native atomics where CUDA has them (add on 32/64-bit integers, float and double;
 // min/max on integers), a compare-and-swap loop otherwise (float/double min and max).
@@ -6,6 +7,7 @@
 // point; no atomic here orders other memory).
 #pragma once
 
+#include <cstdint>
 #include <type_traits>
 
 #include "kernels/core/hd.h"
@@ -129,6 +131,18 @@ ROMP_HD_INLINE T atomic_max(T* address, T value) {
   }
 #else
   return detail::host_cas_loop<detail::AtomicMaxOp>(address, value);
+#endif
+}
+
+// Writes `desired` if the address holds `expected`; returns what it held (== expected on success).
+// 64-bit unsigned words only: what hash tables of packed keys need.
+ROMP_HD_INLINE std::uint64_t atomic_cas(std::uint64_t* address, std::uint64_t expected, std::uint64_t desired) {
+#if defined(__CUDA_ARCH__)
+  using U = unsigned long long;
+  return std::uint64_t(atomicCAS(reinterpret_cast<U*>(address), U(expected), U(desired)));
+#else
+  __atomic_compare_exchange_n(address, &expected, desired, /*weak=*/false, __ATOMIC_RELAXED, __ATOMIC_RELAXED);
+  return expected;
 #endif
 }
 

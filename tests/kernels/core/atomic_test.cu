@@ -124,6 +124,30 @@ TYPED_TEST(AtomicMinMax, RacingUpdatesKeepTheExtremes) {
   EXPECT_EQ(result[1], hi);
 }
 
+struct ClaimSlots {
+  Span<std::uint64_t> slots;
+  Span<std::int32_t> wins;
+  ROMP_HD void operator()(Index i) const {
+    const std::uint64_t mine = std::uint64_t(i) + 1;  // 0 marks a free slot
+    if (atomic_cas(&slots[i % kBins], 0, mine) == 0) atomic_add(&wins[i % kBins], std::int32_t(1));
+  }
+};
+
+TEST(AtomicCas, ExactlyOneClaimWinsEachSlot) {
+  const Exec& exec = test::exec();
+  DeviceBuffer<std::uint64_t> slots(exec.backend, kBins);
+  DeviceBuffer<std::int32_t> wins(exec.backend, kBins);
+  slots.fill_zero(exec.stream);
+  wins.fill_zero(exec.stream);
+  for_each(exec, kAdds, ClaimSlots{slots.span(), wins.span()});
+  const std::vector<std::uint64_t> owners = slots.to_host(exec.stream);
+  EXPECT_EQ(wins.to_host(exec.stream), std::vector<std::int32_t>(kBins, 1));
+  for (Index b = 0; b < kBins; ++b) {
+    ASSERT_NE(owners[b], 0u);
+    EXPECT_EQ(Index(owners[b] - 1) % kBins, b) << "slot " << b << " holds a claim meant for another slot";
+  }
+}
+
 TEST(Atomic, ReturnsThePreviousValue) {
   // Host-side semantics, the same contract as CUDA's atomicAdd/atomicMin/atomicMax.
   float f = 1.5f;

@@ -1,0 +1,183 @@
+// ParticleSet: upload of the initial state, block sort, and read-back in the initial order.
+#include "kernels/mpm/particle_set.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include "kernels/core/error.h"
+#include "kernels/core/for_each.h"
+#include "kernels/mpm/bspline.h"
+#include "kernels/mpm/sparse_grid.h"
+
+#if defined(__CUDACC__)
+#include <cub/device/device_radix_sort.cuh>
+
+#include "kernels/core/cuda_check.h"
+#endif
+
+namespace romp::mpm {
+namespace {
+
+struct SetIdentityAndIota {
+  Mat3Planes<float> F;
+  Span<std::int32_t> id;
+  ROMP_HD void operator()(Index p) const {
+    F.store(p, Mat3<float>::identity());
+    id[p] = std::int32_t(p);
+  }
+};
+
+struct BlockKeyOfParticle {
+  Vec3Planes<const float> x;
+  Span<std::uint64_t> keys;
+  Span<std::int32_t> order;
+  float inverse_dx;
+  ROMP_HD void operator()(Index p) const {
+    const QuadraticStencil<float> stencil(x.load(p), inverse_dx);
+    keys[p] = block_key(stencil.base[0] / kBlockSide, stencil.base[1] / kBlockSide, stencil.base[2] / kBlockSide);
+    order[p] = std::int32_t(p);
+  }
+};
+
+// destination[c n + i] = source[c n + index[i]] for each of `components` planes of n elements.
+template <class T>
+struct GatherPlanes {
+  Span<const T> source;
+  Span<T> destination;
+  Span<const std::int32_t> index;
+  Index count;
+  int components;
+  ROMP_HD void operator()(Index i) const {
+    for (int c = 0; c < components; ++c) destination[c * count + i] = source[c * count + index[i]];
+  }
+};
+
+// destination[c n + index[i]] = source[c n + i]: undoes GatherPlanes with the same index.
+struct ScatterPlanes {
+  Span<const float> source;
+  Span<float> destination;
+  Span<const std::int32_t> index;
+  Index count;
+  int components;
+  ROMP_HD void operator()(Index i) const {
+    for (int c = 0; c < components; ++c) destination[c * count + index[i]] = source[c * count + i];
+  }
+};
+
+template <class T>
+void permute(const Exec& exec, DeviceBuffer<T>& planes, int components, const DeviceBuffer<std::int32_t>& order) {
+  DeviceBuffer<T> sorted(planes.backend(), planes.size());
+  for_each(exec, order.size(),
+           GatherPlanes<T>{planes.span(), sorted.span(), order.span(), order.size(), components});
+  planes = std::move(sorted);
+}
+
+void sort_pairs(const Exec& exec, DeviceBuffer<std::uint64_t>& keys, DeviceBuffer<std::int32_t>& order) {
+  const Index n = keys.size();
+  if (exec.is_cuda()) {
+#if defined(__CUDACC__)
+    DeviceBuffer<std::uint64_t> keys_out(keys.backend(), n);
+    DeviceBuffer<std::int32_t> order_out(order.backend(), n);
+    constexpr int kKeyBitCount = 3 * kKeyBits;  // the tag bit is the same for every key
+    std::size_t temporary_bytes = 0;
+    ROMP_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, temporary_bytes, keys.data(), keys_out.data(),
+                                                    order.data(), order_out.data(), int(n), 0, kKeyBitCount,
+                                                    exec.stream));
+    DeviceBuffer<unsigned char> temporary(keys.backend(), Index(temporary_bytes));
+    ROMP_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(temporary.data(), temporary_bytes, keys.data(), keys_out.data(),
+                                                    order.data(), order_out.data(), int(n), 0, kKeyBitCount,
+                                                    exec.stream));
+    keys = std::move(keys_out);
+    order = std::move(order_out);
+    return;
+#else
+    throw Error("sort_pairs on CUDA from a translation unit not compiled by nvcc");
+#endif
+  }
+  // CPU: a stable sort of the index by key gives the same permutation as the GPU's stable radix sort.
+  std::uint64_t* k = keys.data();
+  std::stable_sort(order.data(), order.data() + n, [k](std::int32_t a, std::int32_t b) { return k[a] < k[b]; });
+}
+
+}  // namespace
+
+ParticleSet::ParticleSet(Backend backend, const ParticleInit& init) : backend_(backend), count_(init.count()) {
+  const Index n = count_;
+  ROMP_CHECK(n > 0, "a particle set needs at least one particle");
+  ROMP_CHECK(Index(init.x.size()) == 3 * n && Index(init.v.size()) == 3 * n,
+             "particle positions and velocities need 3 planes of " + std::to_string(n));
+  ROMP_CHECK(Index(init.volume0.size()) == n && Index(init.material.size()) == n &&
+                 Index(init.dirichlet_group.size()) == n,
+             "every per-particle array needs " + std::to_string(n) + " entries");
+  x_ = DeviceBuffer<float>::from_host(backend, init.x);
+  v_ = DeviceBuffer<float>::from_host(backend, init.v);
+  C_ = DeviceBuffer<float>(backend, 9 * n);
+  C_.fill_zero();
+  F_ = DeviceBuffer<float>(backend, 9 * n);
+  mass_ = DeviceBuffer<float>::from_host(backend, init.mass);
+  volume0_ = DeviceBuffer<float>::from_host(backend, init.volume0);
+  material_ = DeviceBuffer<std::int32_t>::from_host(backend, init.material);
+  dirichlet_group_ = DeviceBuffer<std::int32_t>::from_host(backend, init.dirichlet_group);
+  id_ = DeviceBuffer<std::int32_t>(backend, n);
+  const Exec exec = backend == Backend::Cuda ? Exec::cuda() : Exec::cpu();
+  for_each(exec, n, SetIdentityAndIota{Mat3Planes<float>(F_.data(), n), id_.span()});
+  synchronize(exec);
+}
+
+ParticleView ParticleSet::view() {
+  const Index n = count_;
+  return ParticleView{n,
+                      Vec3Planes<float>(x_.data(), n),
+                      Vec3Planes<float>(v_.data(), n),
+                      Mat3Planes<float>(C_.data(), n),
+                      Mat3Planes<float>(F_.data(), n),
+                      mass_.span(),
+                      volume0_.span(),
+                      material_.span(),
+                      dirichlet_group_.span(),
+                      id_.span()};
+}
+
+std::size_t ParticleSet::bytes() const {
+  return x_.bytes() + v_.bytes() + C_.bytes() + F_.bytes() + mass_.bytes() + volume0_.bytes() + material_.bytes() +
+         dirichlet_group_.bytes() + id_.bytes();
+}
+
+void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
+  const Index n = count_;
+  DeviceBuffer<std::uint64_t> keys(backend_, n);
+  DeviceBuffer<std::int32_t> order(backend_, n);
+  for_each(exec, n, BlockKeyOfParticle{Vec3Planes<const float>(x_.data(), n), keys.span(), order.span(), inverse_dx});
+  sort_pairs(exec, keys, order);
+  permute(exec, x_, 3, order);
+  permute(exec, v_, 3, order);
+  permute(exec, C_, 9, order);
+  permute(exec, F_, 9, order);
+  permute(exec, mass_, 1, order);
+  permute(exec, volume0_, 1, order);
+  permute(exec, material_, 1, order);
+  permute(exec, dirichlet_group_, 1, order);
+  permute(exec, id_, 1, order);
+}
+
+std::vector<float> ParticleSet::planes_in_initial_order(const Exec& exec, const DeviceBuffer<float>& planes,
+                                                        int components) const {
+  DeviceBuffer<float> ordered(backend_, planes.size());
+  for_each(exec, count_, ScatterPlanes{planes.span(), ordered.span(), id_.span(), count_, components});
+  return ordered.to_host(exec.stream);
+}
+
+std::vector<float> ParticleSet::positions_in_initial_order(const Exec& exec) const {
+  return planes_in_initial_order(exec, x_, 3);
+}
+std::vector<float> ParticleSet::velocities_in_initial_order(const Exec& exec) const {
+  return planes_in_initial_order(exec, v_, 3);
+}
+std::vector<float> ParticleSet::deformation_gradients_in_initial_order(const Exec& exec) const {
+  return planes_in_initial_order(exec, F_, 9);
+}
+std::vector<float> ParticleSet::affine_velocities_in_initial_order(const Exec& exec) const {
+  return planes_in_initial_order(exec, C_, 9);
+}
+
+}  // namespace romp::mpm

@@ -1,0 +1,65 @@
+// ParticleSet: the structure-of-arrays particle state of a full-order simulation, and its kernel view.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "kernels/core/device_buffer.h"
+#include "kernels/core/exec.h"
+#include "kernels/math/mat3_planes.h"
+
+namespace romp::mpm {
+
+inline constexpr std::int32_t kNoDirichletGroup = -1;
+
+// What kernels see: planes and spans, no ownership.
+struct ParticleView {
+  Index count = 0;
+  Vec3Planes<float> x;         // position (m)
+  Vec3Planes<float> v;         // velocity (m/s)
+  Mat3Planes<float> C;         // affine velocity / velocity gradient (1/s)
+  Mat3Planes<float> F;         // elastic deformation gradient
+  Span<float> mass;            // kg
+  Span<float> volume0;         // reference volume (m^3)
+  Span<std::int32_t> material; // index into the step's material table
+  Span<std::int32_t> dirichlet_group;  // index into the step's prescribed motions, or kNoDirichletGroup
+  Span<std::int32_t> id;       // index of the particle in the initial state (sorting permutes the arrays)
+};
+
+// Host-side description of the initial particles (planes as in ParticleView, F = I, C = 0 implied).
+struct ParticleInit {
+  std::vector<float> x, v;          // 3 planes each
+  std::vector<float> mass, volume0;
+  std::vector<std::int32_t> material, dirichlet_group;
+  Index count() const { return Index(mass.size()); }
+};
+
+class ParticleSet {
+ public:
+  ParticleSet(Backend backend, const ParticleInit& init);
+
+  ParticleView view();
+  Index count() const { return count_; }
+  Backend backend() const { return backend_; }
+  std::size_t bytes() const;
+
+  // Reorders the particles by the grid block that holds their stencil's base node (radix sort on the
+  // block key on CUDA, a stable sort on the CPU), so neighbours in memory are neighbours in space.
+  void sort_by_block(const Exec& exec, float inverse_dx);
+
+  // Copies of the state in the order of the initial particles (undoing sort_by_block).
+  std::vector<float> positions_in_initial_order(const Exec& exec) const;
+  std::vector<float> velocities_in_initial_order(const Exec& exec) const;
+  std::vector<float> deformation_gradients_in_initial_order(const Exec& exec) const;
+  std::vector<float> affine_velocities_in_initial_order(const Exec& exec) const;
+
+ private:
+  std::vector<float> planes_in_initial_order(const Exec& exec, const DeviceBuffer<float>& planes, int components) const;
+
+  Backend backend_;
+  Index count_;
+  DeviceBuffer<float> x_, v_, C_, F_, mass_, volume0_;
+  DeviceBuffer<std::int32_t> material_, dirichlet_group_, id_;
+};
+
+}  // namespace romp::mpm

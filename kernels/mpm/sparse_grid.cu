@@ -1,0 +1,100 @@
+// SparseGrid: block activation from particle stencils, with growth on overflow.
+#include "kernels/mpm/sparse_grid.h"
+
+#include <algorithm>
+
+#include "kernels/core/for_each.h"
+#include "kernels/core/memory.h"
+#include "kernels/mpm/bspline.h"
+
+namespace romp::mpm {
+namespace {
+
+// Blocks to provision before the first rebuild has counted them (grows on demand).
+constexpr Index kInitialBlocks = 256;
+
+struct ActivateStencilBlocks {
+  Vec3Planes<const float> positions;
+  BlockTableView table;
+  float inverse_dx;
+
+  ROMP_HD void operator()(Index p) const {
+    const QuadraticStencil<float> stencil(positions.load(p), inverse_dx);
+    int low[3], high[3];
+    for (int a = 0; a < 3; ++a) {
+      low[a] = stencil.base[a] / kBlockSide;         // base >= 0 inside the domain
+      high[a] = (stencil.base[a] + 2) / kBlockSide;  // the stencil spans 3 nodes: at most 2 blocks per axis
+    }
+    for (int bx = low[0]; bx <= high[0]; ++bx)
+      for (int by = low[1]; by <= high[1]; ++by)
+        for (int bz = low[2]; bz <= high[2]; ++bz) table.insert(block_key(bx, by, bz));
+  }
+};
+
+Index next_power_of_two(Index n) {
+  Index p = 1;
+  while (p < n) p <<= 1;
+  return p;
+}
+
+}  // namespace
+
+SparseGrid::SparseGrid(Backend backend, float dx, bool keep_old_velocity)
+    : backend_(backend), dx_(dx), keep_old_velocity_(keep_old_velocity) {
+  ROMP_CHECK(dx > 0.0f, "grid spacing must be positive");
+  counters_ = DeviceBuffer<std::int32_t>(backend_, 2);
+  allocate(kInitialBlocks);
+}
+
+void SparseGrid::allocate(Index max_blocks) {
+  max_blocks_ = max_blocks;
+  const Index slots = next_power_of_two(max_blocks * kTableSlotsPerBlock);
+  keys_ = DeviceBuffer<std::uint64_t>(backend_, slots);
+  slot_block_ = DeviceBuffer<std::int32_t>(backend_, slots);
+  block_keys_ = DeviceBuffer<std::uint64_t>(backend_, max_blocks);
+  const Index nodes = max_blocks * kNodesPerBlock;
+  mass_ = DeviceBuffer<float>(backend_, nodes);
+  velocity_ = DeviceBuffer<float>(backend_, 3 * nodes);
+  velocity_old_ = DeviceBuffer<float>(backend_, keep_old_velocity_ ? 3 * nodes : 0);
+}
+
+GridView SparseGrid::view() {
+  const Index nodes = max_blocks_ * kNodesPerBlock;
+  GridView grid;
+  grid.table = BlockTableView{keys_.span(), slot_block_.span(), block_keys_.span(), counters_.span(),
+                              std::uint64_t(keys_.size() - 1)};
+  grid.mass = mass_.span();
+  grid.velocity = Vec3Planes<float>(velocity_.data(), nodes);
+  grid.velocity_old = Vec3Planes<float>(keep_old_velocity_ ? velocity_old_.data() : nullptr, nodes);
+  grid.blocks = blocks_;
+  grid.dx = dx_;
+  grid.inverse_dx = 1.0f / dx_;
+  return grid;
+}
+
+void SparseGrid::rebuild(const Exec& exec, Vec3Planes<const float> positions) {
+  while (true) {
+    keys_.fill_zero(exec.stream);
+    counters_.fill_zero(exec.stream);
+    const GridView grid = view();
+    for_each(exec, positions.count(), ActivateStencilBlocks{positions, grid.table, grid.inverse_dx});
+    const std::vector<std::int32_t> counters = counters_.to_host(exec.stream);
+    if (counters[1] == 0 && counters[0] <= max_blocks_) {
+      blocks_ = counters[0];
+      break;
+    }
+    allocate(std::max<Index>(2 * max_blocks_, 2 * Index(counters[0])));
+  }
+  // Only the active prefix of each plane is used this step.
+  const Index nodes = max_blocks_ * kNodesPerBlock;
+  const std::size_t active_bytes = std::size_t(active_nodes()) * sizeof(float);
+  memory::fill_zero(mass_.data(), backend_, active_bytes, exec.stream);
+  for (int axis = 0; axis < 3; ++axis) memory::fill_zero(velocity_.data() + axis * nodes, backend_, active_bytes, exec.stream);
+}
+
+std::size_t SparseGrid::bytes() const {
+  return keys_.bytes() + slot_block_.bytes() + block_keys_.bytes() + counters_.bytes() + mass_.bytes() +
+         velocity_.bytes() + velocity_old_.bytes();
+}
+
+}  // namespace romp::mpm

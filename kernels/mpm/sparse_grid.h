@@ -1,0 +1,131 @@
+// SparseGrid: 4x4x4 node blocks activated by the particles, found through a hash table of block keys.
+//
+// Memory is proportional to the blocks the particles touch, not to the domain's bounding box. The
+// table is open addressing with linear probing, filled by concurrent inserts (compare-and-swap on
+// the key); a block's index is handed out by an atomic counter, and its 64 nodes are stored at
+// [64 index, 64 index + 64) of every node array. The same structure serves both backends.
+#pragma once
+
+#include <cstdint>
+
+#include "kernels/core/atomic.h"
+#include "kernels/core/device_buffer.h"
+#include "kernels/core/exec.h"
+#include "kernels/core/span.h"
+#include "kernels/math/mat3_planes.h"
+
+namespace romp::mpm {
+
+inline constexpr int kBlockSide = 4;
+inline constexpr int kNodesPerBlock = kBlockSide * kBlockSide * kBlockSide;
+// Keys carry bit 63 so that 0 can mark an empty slot (and a cleared table is a memset).
+inline constexpr std::uint64_t kEmptyKey = 0;
+inline constexpr std::uint64_t kKeyTag = std::uint64_t(1) << 63;
+inline constexpr int kKeyBits = 21;  // per axis: block coordinates in [0, 2^21)
+inline constexpr std::uint64_t kKeyMask = (std::uint64_t(1) << kKeyBits) - 1;
+// The table keeps at most half its slots filled, so probe sequences stay short.
+inline constexpr int kTableSlotsPerBlock = 2;
+
+ROMP_HD_INLINE std::uint64_t block_key(int bx, int by, int bz) {
+  return kKeyTag | (std::uint64_t(bx) << (2 * kKeyBits)) | (std::uint64_t(by) << kKeyBits) | std::uint64_t(bz);
+}
+ROMP_HD_INLINE int block_coordinate(std::uint64_t key, int axis) {
+  return int((key >> ((2 - axis) * kKeyBits)) & kKeyMask);
+}
+// Node (i, j, k) lives in block (i/4, j/4, k/4) at local index 16 (i%4) + 4 (j%4) + k%4.
+ROMP_HD_INLINE int local_node(int i, int j, int k) {
+  return (i & (kBlockSide - 1)) * kBlockSide * kBlockSide + (j & (kBlockSide - 1)) * kBlockSide + (k & (kBlockSide - 1));
+}
+
+// splitmix64's finaliser: neighbouring blocks land far apart in the table.
+ROMP_HD_INLINE std::uint64_t hash_key(std::uint64_t key) {
+  key ^= key >> 30;
+  key *= 0xbf58476d1ce4e5b9ull;
+  key ^= key >> 27;
+  key *= 0x94d049bb133111ebull;
+  return key ^ (key >> 31);
+}
+
+// What kernels see of the table: plain spans, no ownership.
+struct BlockTableView {
+  Span<std::uint64_t> keys;       // capacity slots, kEmptyKey where free
+  Span<std::int32_t> slot_block;  // block index stored in each filled slot
+  Span<std::uint64_t> block_keys; // key of each block index (max_blocks)
+  Span<std::int32_t> counters;    // [0] blocks handed out, [1] set when an insert found no room
+  std::uint64_t mask = 0;         // capacity - 1 (capacity is a power of two)
+
+  // Inserts `key` if absent. Safe to call concurrently; never blocks on a full table.
+  ROMP_HD void insert(std::uint64_t key) const {
+    std::uint64_t slot = hash_key(key) & mask;
+    for (std::uint64_t probe = 0; probe <= mask; ++probe) {
+      const std::uint64_t seen = atomic_cas(&keys[Index(slot)], kEmptyKey, key);
+      if (seen == kEmptyKey) {
+        const std::int32_t block = atomic_add(&counters[0], std::int32_t(1));
+        if (block < block_keys.size()) block_keys[block] = key;
+        slot_block[Index(slot)] = block;
+        return;
+      }
+      if (seen == key) return;
+      slot = (slot + 1) & mask;
+    }
+    counters[1] = 1;
+  }
+
+  // The block index of `key`, or -1. Only valid after the inserting launch has finished.
+  ROMP_HD std::int32_t find(std::uint64_t key) const {
+    std::uint64_t slot = hash_key(key) & mask;
+    for (std::uint64_t probe = 0; probe <= mask; ++probe) {
+      const std::uint64_t seen = keys[Index(slot)];
+      if (seen == key) return slot_block[Index(slot)];
+      if (seen == kEmptyKey) return -1;
+      slot = (slot + 1) & mask;
+    }
+    return -1;
+  }
+};
+
+// The node data of the active blocks: mass, momentum (velocity after the grid update) and, for
+// PIC/FLIP, the velocity before the update. Planes have stride `node_capacity`.
+struct GridView {
+  BlockTableView table;
+  Span<float> mass;
+  Vec3Planes<float> velocity;      // momentum during P2G, velocity after the grid update
+  Vec3Planes<float> velocity_old;  // PIC/FLIP only (empty otherwise): velocity before forces
+  Index blocks = 0;                // active blocks this step
+  float dx = 0.0f;
+  float inverse_dx = 0.0f;
+};
+
+// Owner of the table and the node arrays; rebuilt from the particle positions every substep.
+class SparseGrid {
+ public:
+  SparseGrid(Backend backend, float dx, bool keep_old_velocity);
+
+  // Activates every block that a particle's quadratic stencil touches and zeroes its nodes. Grows
+  // the table (and retries) when the particles touch more blocks than it holds.
+  void rebuild(const Exec& exec, Vec3Planes<const float> positions);
+
+  GridView view();
+  Index active_blocks() const { return blocks_; }
+  Index active_nodes() const { return blocks_ * kNodesPerBlock; }
+  // Bytes held by the table and node arrays (for memory-per-particle reports).
+  std::size_t bytes() const;
+
+ private:
+  void allocate(Index max_blocks);
+
+  Backend backend_;
+  float dx_;
+  bool keep_old_velocity_;
+  Index max_blocks_ = 0;
+  Index blocks_ = 0;
+  DeviceBuffer<std::uint64_t> keys_;
+  DeviceBuffer<std::int32_t> slot_block_;
+  DeviceBuffer<std::uint64_t> block_keys_;
+  DeviceBuffer<std::int32_t> counters_;
+  DeviceBuffer<float> mass_;
+  DeviceBuffer<float> velocity_;
+  DeviceBuffer<float> velocity_old_;
+};
+
+}  // namespace romp::mpm

@@ -1,0 +1,113 @@
+// SparseGrid activates exactly the blocks the particle stencils touch, grows on demand, and
+// ParticleSet's block sort is a permutation that can be undone.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "kernels/core/for_each.h"
+#include "kernels/core/memory.h"
+#include "kernels/mpm/bspline.h"
+#include "kernels/mpm/particle_set.h"
+#include "kernels/mpm/sparse_grid.h"
+#include "tests/support/test_exec.h"
+
+namespace romp::mpm {
+namespace {
+
+constexpr float kDx = 1.0f / 64.0f;
+
+// Random positions in [lo, hi)^3, as three planes.
+std::vector<float> random_positions(Index n, float lo, float hi, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(lo, hi);
+  std::vector<float> x(3 * n);
+  for (float& value : x) value = u(rng);
+  return x;
+}
+
+std::set<std::uint64_t> expected_blocks(const std::vector<float>& x, Index n) {
+  std::set<std::uint64_t> blocks;
+  for (Index p = 0; p < n; ++p) {
+    const QuadraticStencil<float> s(Vec3<float>(x[p], x[n + p], x[2 * n + p]), 1.0f / kDx);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k)
+          blocks.insert(block_key((s.base[0] + i) / kBlockSide, (s.base[1] + j) / kBlockSide, (s.base[2] + k) / kBlockSide));
+  }
+  return blocks;
+}
+
+struct FindEachBlock {
+  BlockTableView table;
+  Span<const std::uint64_t> keys;
+  Span<std::int32_t> found;
+  ROMP_HD void operator()(Index b) const { found[b] = table.find(keys[b]); }
+};
+
+TEST(SparseGrid, ActivatesExactlyTheBlocksOfTheStencilsAndGrows) {
+  const Exec& exec = test::exec();
+  // Spread over the whole unit cube: thousands of blocks, far more than the initial provision.
+  const Index n = 20000;
+  const std::vector<float> x = random_positions(n, 2 * kDx, 1.0f - 2 * kDx, 7);
+  const DeviceBuffer<float> positions = DeviceBuffer<float>::from_host(exec.backend, x, exec.stream);
+  SparseGrid grid(exec.backend, kDx, false);
+  grid.rebuild(exec, Vec3Planes<const float>(positions.data(), n));
+
+  const std::set<std::uint64_t> expected = expected_blocks(x, n);
+  ASSERT_EQ(grid.active_blocks(), Index(expected.size()));
+  GridView view = grid.view();
+  const std::vector<std::uint64_t> keys(expected.begin(), expected.end());
+  const DeviceBuffer<std::uint64_t> key_buffer = DeviceBuffer<std::uint64_t>::from_host(exec.backend, keys, exec.stream);
+  DeviceBuffer<std::int32_t> found(exec.backend, Index(keys.size()));
+  for_each(exec, Index(keys.size()), FindEachBlock{view.table, key_buffer.span(), found.span()});
+  std::vector<std::int32_t> indices = found.to_host(exec.stream);
+  std::sort(indices.begin(), indices.end());
+  for (std::size_t b = 0; b < indices.size(); ++b) ASSERT_EQ(indices[b], std::int32_t(b)) << "block indices are 0..blocks-1";
+}
+
+TEST(SparseGrid, InactiveBlockIsNotFound) {
+  const Exec& exec = test::exec();
+  const std::vector<float> x{0.5f, 0.5f, 0.5f};
+  const DeviceBuffer<float> positions = DeviceBuffer<float>::from_host(exec.backend, x, exec.stream);
+  SparseGrid grid(exec.backend, kDx, false);
+  grid.rebuild(exec, Vec3Planes<const float>(positions.data(), 1));
+  const std::vector<std::uint64_t> far{block_key(1, 1, 1)};
+  const DeviceBuffer<std::uint64_t> keys = DeviceBuffer<std::uint64_t>::from_host(exec.backend, far, exec.stream);
+  DeviceBuffer<std::int32_t> found(exec.backend, 1);
+  for_each(exec, 1, FindEachBlock{grid.view().table, keys.span(), found.span()});
+  EXPECT_EQ(found.to_host(exec.stream)[0], -1);
+}
+
+TEST(ParticleSet, BlockSortIsAPermutationThatCanBeUndone) {
+  const Exec& exec = test::exec();
+  const Index n = 5000;
+  ParticleInit init;
+  init.x = random_positions(n, 2 * kDx, 1.0f - 2 * kDx, 11);
+  init.v = random_positions(n, -1.0f, 1.0f, 12);
+  init.mass.assign(n, 1.0f);
+  init.volume0.assign(n, 1.0f);
+  init.material.assign(n, 0);
+  init.dirichlet_group.assign(n, kNoDirichletGroup);
+  ParticleSet particles(exec.backend, init);
+  particles.sort_by_block(exec, 1.0f / kDx);
+
+  // Sorted: block keys of consecutive particles never decrease.
+  const ParticleView view = particles.view();
+  std::vector<float> x(3 * n);
+  memory::copy(x.data(), Backend::Cpu, view.x.data(), exec.backend, x.size() * sizeof(float), exec.stream);
+  std::uint64_t previous = 0;
+  for (Index p = 0; p < n; ++p) {
+    const QuadraticStencil<float> s(Vec3<float>(x[p], x[n + p], x[2 * n + p]), 1.0f / kDx);
+    const std::uint64_t key = block_key(s.base[0] / kBlockSide, s.base[1] / kBlockSide, s.base[2] / kBlockSide);
+    ASSERT_GE(key, previous) << "particle " << p;
+    previous = key;
+  }
+  EXPECT_EQ(particles.positions_in_initial_order(exec), init.x);
+  EXPECT_EQ(particles.velocities_in_initial_order(exec), init.v);
+}
+
+}  // namespace
+}  // namespace romp::mpm
