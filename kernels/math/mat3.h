@@ -39,21 +39,21 @@ struct Mat3 {
 
   ROMP_HD constexpr Vec3<T> row(int r) const { return Vec3<T>(m[r][0], m[r][1], m[r][2]); }
   ROMP_HD constexpr Vec3<T> column(int c) const { return Vec3<T>(m[0][c], m[1][c], m[2][c]); }
-  ROMP_HD void set_column(int c, const Vec3<T>& value) {
+  ROMP_MATH_INLINE void set_column(int c, const Vec3<T>& value) {
     for (int r = 0; r < 3; ++r) m[r][c] = value[r];
   }
 
-  ROMP_HD Mat3& operator+=(const Mat3& b) {
+  ROMP_MATH_INLINE Mat3& operator+=(const Mat3& b) {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) m[r][c] += b.m[r][c];
     return *this;
   }
-  ROMP_HD Mat3& operator-=(const Mat3& b) {
+  ROMP_MATH_INLINE Mat3& operator-=(const Mat3& b) {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) m[r][c] -= b.m[r][c];
     return *this;
   }
-  ROMP_HD Mat3& operator*=(T s) {
+  ROMP_MATH_INLINE Mat3& operator*=(T s) {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) m[r][c] *= s;
     return *this;
@@ -61,17 +61,17 @@ struct Mat3 {
 };
 
 template <class T>
-ROMP_HD_INLINE Mat3<T> operator+(Mat3<T> a, const Mat3<T>& b) { return a += b; }
+ROMP_MATH_INLINE Mat3<T> operator+(Mat3<T> a, const Mat3<T>& b) { return a += b; }
 template <class T>
-ROMP_HD_INLINE Mat3<T> operator-(Mat3<T> a, const Mat3<T>& b) { return a -= b; }
+ROMP_MATH_INLINE Mat3<T> operator-(Mat3<T> a, const Mat3<T>& b) { return a -= b; }
 template <class T>
-ROMP_HD_INLINE Mat3<T> operator-(Mat3<T> a) { return a *= T(-1); }
+ROMP_MATH_INLINE Mat3<T> operator-(Mat3<T> a) { return a *= T(-1); }
 template <class T>
-ROMP_HD_INLINE Mat3<T> operator*(Mat3<T> a, T s) { return a *= s; }
+ROMP_MATH_INLINE Mat3<T> operator*(Mat3<T> a, T s) { return a *= s; }
 template <class T>
-ROMP_HD_INLINE Mat3<T> operator*(T s, Mat3<T> a) { return a *= s; }
+ROMP_MATH_INLINE Mat3<T> operator*(T s, Mat3<T> a) { return a *= s; }
 template <class T>
-ROMP_HD_INLINE bool operator==(const Mat3<T>& a, const Mat3<T>& b) {
+ROMP_MATH_INLINE bool operator==(const Mat3<T>& a, const Mat3<T>& b) {
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)
       if (!(a.m[r][c] == b.m[r][c])) return false;
@@ -79,24 +79,24 @@ ROMP_HD_INLINE bool operator==(const Mat3<T>& a, const Mat3<T>& b) {
 }
 
 template <class T>
-ROMP_HD_INLINE Mat3<T> operator*(const Mat3<T>& a, const Mat3<T>& b) {
+ROMP_MATH_INLINE Mat3<T> operator*(const Mat3<T>& a, const Mat3<T>& b) {
   Mat3<T> p;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) p.m[r][c] = a.m[r][0] * b.m[0][c] + a.m[r][1] * b.m[1][c] + a.m[r][2] * b.m[2][c];
   return p;
 }
 template <class T>
-ROMP_HD_INLINE Vec3<T> operator*(const Mat3<T>& a, const Vec3<T>& x) {
+ROMP_MATH_INLINE Vec3<T> operator*(const Mat3<T>& a, const Vec3<T>& x) {
   return Vec3<T>(dot(a.row(0), x), dot(a.row(1), x), dot(a.row(2), x));
 }
 
 template <class T>
-ROMP_HD_INLINE Mat3<T> transpose(const Mat3<T>& a) {
+ROMP_MATH_INLINE Mat3<T> transpose(const Mat3<T>& a) {
   return Mat3<T>::from_columns(a.row(0), a.row(1), a.row(2));
 }
 // aᵀ b without forming the transpose.
 template <class T>
-ROMP_HD_INLINE Mat3<T> transpose_times(const Mat3<T>& a, const Mat3<T>& b) {
+ROMP_MATH_INLINE Mat3<T> transpose_times(const Mat3<T>& a, const Mat3<T>& b) {
   Mat3<T> p;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) p.m[r][c] = a.m[0][r] * b.m[0][c] + a.m[1][r] * b.m[1][c] + a.m[2][r] * b.m[2][c];
@@ -104,7 +104,7 @@ ROMP_HD_INLINE Mat3<T> transpose_times(const Mat3<T>& a, const Mat3<T>& b) {
 }
 // a bᵀ without forming the transpose.
 template <class T>
-ROMP_HD_INLINE Mat3<T> times_transpose(const Mat3<T>& a, const Mat3<T>& b) {
+ROMP_MATH_INLINE Mat3<T> times_transpose(const Mat3<T>& a, const Mat3<T>& b) {
   Mat3<T> p;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) p.m[r][c] = a.m[r][0] * b.m[c][0] + a.m[r][1] * b.m[c][1] + a.m[r][2] * b.m[c][2];
@@ -112,24 +112,24 @@ ROMP_HD_INLINE Mat3<T> times_transpose(const Mat3<T>& a, const Mat3<T>& b) {
 }
 
 template <class T>
-ROMP_HD_INLINE T trace(const Mat3<T>& a) { return a.m[0][0] + a.m[1][1] + a.m[2][2]; }
+ROMP_MATH_INLINE T trace(const Mat3<T>& a) { return a.m[0][0] + a.m[1][1] + a.m[2][2]; }
 template <class T>
-ROMP_HD_INLINE T determinant(const Mat3<T>& a) { return dot(a.row(0), cross(a.row(1), a.row(2))); }
+ROMP_MATH_INLINE T determinant(const Mat3<T>& a) { return dot(a.row(0), cross(a.row(1), a.row(2))); }
 // Σ a_ij b_ij, the Frobenius inner product (a double contraction a : b).
 template <class T>
-ROMP_HD_INLINE T inner(const Mat3<T>& a, const Mat3<T>& b) {
+ROMP_MATH_INLINE T inner(const Mat3<T>& a, const Mat3<T>& b) {
   T sum = T(0);
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) sum += a.m[r][c] * b.m[r][c];
   return sum;
 }
 template <class T>
-ROMP_HD_INLINE T squared_frobenius_norm(const Mat3<T>& a) { return inner(a, a); }
+ROMP_MATH_INLINE T squared_frobenius_norm(const Mat3<T>& a) { return inner(a, a); }
 template <class T>
-ROMP_HD_INLINE T frobenius_norm(const Mat3<T>& a) { return math::sqrt(squared_frobenius_norm(a)); }
+ROMP_MATH_INLINE T frobenius_norm(const Mat3<T>& a) { return math::sqrt(squared_frobenius_norm(a)); }
 // max |a_ij|
 template <class T>
-ROMP_HD_INLINE T max_abs(const Mat3<T>& a) {
+ROMP_MATH_INLINE T max_abs(const Mat3<T>& a) {
   T largest = T(0);
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) largest = math::max(largest, math::abs(a.m[r][c]));
@@ -137,11 +137,11 @@ ROMP_HD_INLINE T max_abs(const Mat3<T>& a) {
 }
 // The diagonal as a vector.
 template <class T>
-ROMP_HD_INLINE Vec3<T> diagonal(const Mat3<T>& a) { return Vec3<T>(a.m[0][0], a.m[1][1], a.m[2][2]); }
+ROMP_MATH_INLINE Vec3<T> diagonal(const Mat3<T>& a) { return Vec3<T>(a.m[0][0], a.m[1][1], a.m[2][2]); }
 // (a + aᵀ)/2 and (a − aᵀ)/2.
 template <class T>
-ROMP_HD_INLINE Mat3<T> symmetric_part(const Mat3<T>& a) { return T(0.5) * (a + transpose(a)); }
+ROMP_MATH_INLINE Mat3<T> symmetric_part(const Mat3<T>& a) { return T(0.5) * (a + transpose(a)); }
 template <class T>
-ROMP_HD_INLINE Mat3<T> skew_part(const Mat3<T>& a) { return T(0.5) * (a - transpose(a)); }
+ROMP_MATH_INLINE Mat3<T> skew_part(const Mat3<T>& a) { return T(0.5) * (a - transpose(a)); }
 
 }  // namespace romp

@@ -9,6 +9,7 @@
 
 #include "kernels/core/hd.h"
 #include "kernels/math/mat3.h"
+#include "kernels/math/scalar.h"
 #include "kernels/math/vec3.h"
 
 namespace romp {
@@ -25,13 +26,13 @@ class Mat3Planes {
   template <class U, class = std::enable_if_t<std::is_convertible_v<U (*)[], T (*)[]>>>
   ROMP_HD Mat3Planes(const Mat3Planes<U>& other) : data_(other.data()), count_(other.count()) {}
 
-  ROMP_HD Mat3<value_type> load(Index i) const {
+  ROMP_MATH_INLINE Mat3<value_type> load(Index i) const {
     Mat3<value_type> a;
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) a.m[r][c] = data_[(3 * r + c) * count_ + i];
     return a;
   }
-  ROMP_HD void store(Index i, const Mat3<value_type>& a) const {
+  ROMP_MATH_INLINE void store(Index i, const Mat3<value_type>& a) const {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) data_[(3 * r + c) * count_ + i] = a.m[r][c];
   }
@@ -56,10 +57,10 @@ class Vec3Planes {
   template <class U, class = std::enable_if_t<std::is_convertible_v<U (*)[], T (*)[]>>>
   ROMP_HD Vec3Planes(const Vec3Planes<U>& other) : data_(other.data()), count_(other.count()) {}
 
-  ROMP_HD Vec3<value_type> load(Index i) const {
+  ROMP_MATH_INLINE Vec3<value_type> load(Index i) const {
     return Vec3<value_type>(data_[i], data_[count_ + i], data_[2 * count_ + i]);
   }
-  ROMP_HD void store(Index i, const Vec3<value_type>& x) const {
+  ROMP_MATH_INLINE void store(Index i, const Vec3<value_type>& x) const {
     for (int k = 0; k < 3; ++k) data_[k * count_ + i] = x[k];
   }
 

@@ -21,51 +21,51 @@ struct Vec3 {
   ROMP_HD constexpr T& operator[](int k) { return v[k]; }
   ROMP_HD constexpr const T& operator[](int k) const { return v[k]; }
 
-  ROMP_HD Vec3& operator+=(const Vec3& b) {
+  ROMP_MATH_INLINE Vec3& operator+=(const Vec3& b) {
     for (int k = 0; k < 3; ++k) v[k] += b.v[k];
     return *this;
   }
-  ROMP_HD Vec3& operator-=(const Vec3& b) {
+  ROMP_MATH_INLINE Vec3& operator-=(const Vec3& b) {
     for (int k = 0; k < 3; ++k) v[k] -= b.v[k];
     return *this;
   }
-  ROMP_HD Vec3& operator*=(T s) {
+  ROMP_MATH_INLINE Vec3& operator*=(T s) {
     for (int k = 0; k < 3; ++k) v[k] *= s;
     return *this;
   }
 };
 
 template <class T>
-ROMP_HD_INLINE Vec3<T> operator+(Vec3<T> a, const Vec3<T>& b) { return a += b; }
+ROMP_MATH_INLINE Vec3<T> operator+(Vec3<T> a, const Vec3<T>& b) { return a += b; }
 template <class T>
-ROMP_HD_INLINE Vec3<T> operator-(Vec3<T> a, const Vec3<T>& b) { return a -= b; }
+ROMP_MATH_INLINE Vec3<T> operator-(Vec3<T> a, const Vec3<T>& b) { return a -= b; }
 template <class T>
-ROMP_HD_INLINE Vec3<T> operator-(const Vec3<T>& a) { return Vec3<T>(-a[0], -a[1], -a[2]); }
+ROMP_MATH_INLINE Vec3<T> operator-(const Vec3<T>& a) { return Vec3<T>(-a[0], -a[1], -a[2]); }
 template <class T>
-ROMP_HD_INLINE Vec3<T> operator*(Vec3<T> a, T s) { return a *= s; }
+ROMP_MATH_INLINE Vec3<T> operator*(Vec3<T> a, T s) { return a *= s; }
 template <class T>
-ROMP_HD_INLINE Vec3<T> operator*(T s, Vec3<T> a) { return a *= s; }
+ROMP_MATH_INLINE Vec3<T> operator*(T s, Vec3<T> a) { return a *= s; }
 template <class T>
-ROMP_HD_INLINE bool operator==(const Vec3<T>& a, const Vec3<T>& b) {
+ROMP_MATH_INLINE bool operator==(const Vec3<T>& a, const Vec3<T>& b) {
   return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
 
 // Component-wise product.
 template <class T>
-ROMP_HD_INLINE Vec3<T> hadamard(const Vec3<T>& a, const Vec3<T>& b) {
+ROMP_MATH_INLINE Vec3<T> hadamard(const Vec3<T>& a, const Vec3<T>& b) {
   return Vec3<T>(a[0] * b[0], a[1] * b[1], a[2] * b[2]);
 }
 template <class T>
-ROMP_HD_INLINE T dot(const Vec3<T>& a, const Vec3<T>& b) {
+ROMP_MATH_INLINE T dot(const Vec3<T>& a, const Vec3<T>& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 template <class T>
-ROMP_HD_INLINE Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
+ROMP_MATH_INLINE Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
   return Vec3<T>(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]);
 }
 template <class T>
-ROMP_HD_INLINE T squared_norm(const Vec3<T>& a) { return dot(a, a); }
+ROMP_MATH_INLINE T squared_norm(const Vec3<T>& a) { return dot(a, a); }
 template <class T>
-ROMP_HD_INLINE T norm(const Vec3<T>& a) { return math::sqrt(squared_norm(a)); }
+ROMP_MATH_INLINE T norm(const Vec3<T>& a) { return math::sqrt(squared_norm(a)); }
 
 }  // namespace romp
