@@ -21,6 +21,7 @@ using romp::bench::Suite;
 // Order matters: later suites may read records of earlier ones (svd compares with memory's copy bandwidth).
 const std::vector<Suite> kSuites = {
     {"memory", "copy bandwidth of each backend (the bound for memory-bound kernels)", romp::bench::run_memory_suite},
+    {"step", "full-order MPM particle-substeps per second and memory per particle", romp::bench::run_step_suite},
     {"svd", "batched 3x3 SVD against Eigen (CPU) and cuSOLVER (GPU); share of copy bandwidth", romp::bench::run_svd_suite},
 };
 

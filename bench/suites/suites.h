@@ -6,6 +6,7 @@
 namespace romp::bench {
 
 void run_memory_suite(Context& context);
+void run_step_suite(Context& context);
 // 3x3 SVDs per second: romp against Eigen (CPU) and cuSOLVER (GPU); needs memory first for the bandwidth fraction.
 void run_svd_suite(Context& context);
 

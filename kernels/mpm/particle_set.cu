@@ -39,28 +39,20 @@ struct BlockKeyOfParticle {
   }
 };
 
-// destination[c n + i] = source[c n + index[i]] for each of `components` planes of n elements.
-template <class T>
-struct GatherPlanes {
+// Moves `components` planes of n elements through a permutation: a gather
+// (destination[c n + i] = source[c n + index[i]]) or its inverse, a scatter
+// (destination[c n + index[i]] = source[c n + i]).
+template <class T, bool kScatter>
+struct PermutePlanes {
   Span<const T> source;
   Span<T> destination;
   Span<const std::int32_t> index;
   Index count;
   int components;
   ROMP_HD void operator()(Index i) const {
-    for (int c = 0; c < components; ++c) destination[c * count + i] = source[c * count + index[i]];
-  }
-};
-
-// destination[c n + index[i]] = source[c n + i]: undoes GatherPlanes with the same index.
-struct ScatterPlanes {
-  Span<const float> source;
-  Span<float> destination;
-  Span<const std::int32_t> index;
-  Index count;
-  int components;
-  ROMP_HD void operator()(Index i) const {
-    for (int c = 0; c < components; ++c) destination[c * count + index[i]] = source[c * count + i];
+    const Index from = kScatter ? i : index[i];
+    const Index to = kScatter ? index[i] : i;
+    for (int c = 0; c < components; ++c) destination[c * count + to] = source[c * count + from];
   }
 };
 
@@ -68,7 +60,7 @@ template <class T>
 void permute(const Exec& exec, DeviceBuffer<T>& planes, int components, const DeviceBuffer<std::int32_t>& order) {
   DeviceBuffer<T> sorted(planes.backend(), planes.size());
   for_each(exec, order.size(),
-           GatherPlanes<T>{planes.span(), sorted.span(), order.span(), order.size(), components});
+           PermutePlanes<T, false>{planes.span(), sorted.span(), order.span(), order.size(), components});
   planes = std::move(sorted);
 }
 
@@ -163,7 +155,7 @@ void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
 std::vector<float> ParticleSet::planes_in_initial_order(const Exec& exec, const DeviceBuffer<float>& planes,
                                                         int components) const {
   DeviceBuffer<float> ordered(backend_, planes.size());
-  for_each(exec, count_, ScatterPlanes{planes.span(), ordered.span(), id_.span(), count_, components});
+  for_each(exec, count_, PermutePlanes<float, true>{planes.span(), ordered.span(), id_.span(), count_, components});
   return ordered.to_host(exec.stream);
 }
 

@@ -89,7 +89,10 @@ void SparseGrid::rebuild(const Exec& exec, Vec3Planes<const float> positions) {
   const Index nodes = max_blocks_ * kNodesPerBlock;
   const std::size_t active_bytes = std::size_t(active_nodes()) * sizeof(float);
   memory::fill_zero(mass_.data(), backend_, active_bytes, exec.stream);
-  for (int axis = 0; axis < 3; ++axis) memory::fill_zero(velocity_.data() + axis * nodes, backend_, active_bytes, exec.stream);
+  for (int axis = 0; axis < 3; ++axis) {
+    memory::fill_zero(velocity_.data() + axis * nodes, backend_, active_bytes, exec.stream);
+    if (keep_old_velocity_) memory::fill_zero(velocity_old_.data() + axis * nodes, backend_, active_bytes, exec.stream);
+  }
 }
 
 std::size_t SparseGrid::bytes() const {

@@ -1,0 +1,76 @@
+// step suite: full-order MPM particle-substeps per second, with memory per particle, for the
+// jelly cube and the sand column of the neural-constitutive-law paper at 100k and 1M particles.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <string>
+
+#include "bench/suites/suites.h"
+#include "host/box_lattice.h"
+#include "host/full_order_sim.h"
+#include "host/material_library.h"
+
+namespace romp::bench {
+namespace {
+
+constexpr int kParticlesPerCellPerAxis = 2;
+
+struct StepCase {
+  const char* name;
+  NclawMaterial material;
+  Vec3<float> low, high;  // the body, in the unit-cube domain
+  Vec3<float> velocity;
+};
+
+// The body is resampled so that it holds about `particles` particles at 2 per cell per axis.
+FullOrderSim make_sim(const Exec& exec, const StepCase& c, Index particles) {
+  const Vec3<float> extent = c.high - c.low;
+  const float volume = extent[0] * extent[1] * extent[2];
+  const float spacing = std::cbrt(volume / float(particles));
+  const float dx = kParticlesPerCellPerAxis * spacing;
+  FullOrderConfig config;
+  config.dx = dx;
+  const std::int32_t cells = std::int32_t(std::ceil(1.0f / dx));
+  config.domain_cells = {cells, cells, cells};
+  config.materials = {nclaw_material(c.material)};
+  mpm::ParticleInit init = sample_box_lattice(c.low, c.high, spacing, config.materials[0].density);
+  for (Index p = 0; p < init.count(); ++p)
+    for (int a = 0; a < 3; ++a) init.v[a * init.count() + p] = c.velocity[a];
+  return FullOrderSim(exec, config, init);
+}
+
+}  // namespace
+
+void run_step_suite(Context& context) {
+  const StepCase cases[] = {
+      {"jelly_cube", NclawMaterial::Jelly, {0.25f, 0.25f, 0.25f}, {0.75f, 0.75f, 0.75f}, {1.0f, -1.5f, -2.0f}},
+      {"sand_column", NclawMaterial::Sand, {0.4f, 0.1f, 0.4f}, {0.6f, 0.7f, 0.6f}, {0.0f, 0.0f, 0.0f}},
+  };
+  for (const Index nominal : {Index(100000), Index(1000000)}) {
+    const Index particles = context.scaled(nominal, 1000);
+    // Enough substeps per repeat that the per-substep host work is part of what is measured.
+    const int substeps = nominal >= 1000000 ? 2 : 10;
+    for (const StepCase& c : cases) {
+      for (const Exec& exec : context.execs()) {
+        FullOrderSim sim = make_sim(exec, c, particles);
+        const float dt = sim.stable_dt();
+        const Index n = sim.particles().count();
+        const Measurement& m = context.time(
+            "step", fmt::format("{}_{}k", c.name, nominal / 1000), exec, n * substeps, "particle-substep",
+            [&] {
+              for (int s = 0; s < substeps; ++s) sim.substep(dt);
+            },
+            0.0, fmt::format("{} particles, dx = {:.4g} m", n, sim.config().dx));
+        const std::string where = fmt::format("step.{}.{}{}", m.name, m.backend, m.threads);
+        const double bytes = double(sim.particles().bytes() + sim.grid().bytes());
+        context.record(where + ".bytes_per_particle", bytes / double(n));
+        // Where a substep goes, over warm-up and timed repeats together.
+        double total = 0.0;
+        for (const auto& [stage, seconds] : sim.stage_seconds()) total += seconds;
+        for (const auto& [stage, seconds] : sim.stage_seconds()) context.record(where + ".share." + stage, seconds / total);
+      }
+    }
+  }
+}
+
+}  // namespace romp::bench

@@ -1,0 +1,106 @@
+// G2P: particles gather velocity and its gradient, move, and update F; Dirichlet groups move rigidly.
+#include "kernels/core/atomic.h"
+#include "kernels/core/for_each.h"
+#include "kernels/math/finite.h"
+#include "kernels/mpm/stencil_nodes.h"
+#include "kernels/mpm/step.h"
+
+namespace romp::mpm {
+namespace {
+
+// [w]× : the matrix of the cross product with w, the velocity gradient of a rigid rotation.
+ROMP_HD_INLINE Mat3<float> cross_matrix(const Vec3<float>& w) {
+  return Mat3<float>(0.0f, -w[2], w[1], w[2], 0.0f, -w[0], -w[1], w[0], 0.0f);
+}
+
+struct GridToParticle {
+  ParticleView particles;
+  GridView grid;
+  StepParams step;
+
+  ROMP_HD void operator()(Index p) const {
+    Vec3<float> x = particles.x.load(p);
+    Mat3<float> F = particles.F.load(p);
+    Vec3<float> v;
+    Mat3<float> C;
+    const std::int32_t group = particles.dirichlet_group[p];
+    if (group != kNoDirichletGroup) {
+      const RigidMotion& motion = step.dirichlet[group];
+      const Vec3<float> arm = x - motion.pivot;
+      v = motion.linear_velocity + cross(motion.angular_velocity, arm);
+      C = cross_matrix(motion.angular_velocity);
+      x = motion.pivot + step.dt * motion.linear_velocity + motion.step_rotation * arm;
+      F = motion.step_rotation * F;
+    } else {
+      const QuadraticStencil<float> stencil(x, grid.inverse_dx);
+      const StencilNodes nodes(stencil, grid.table);
+      Vec3<float> v_pic = Vec3<float>::zero(), dv_flip = Vec3<float>::zero();
+      Mat3<float> B = Mat3<float>::zero();
+      const bool flip = step.transfer == Transfer::PicFlip;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          for (int k = 0; k < 3; ++k) {
+            const float w = stencil.weight(i, j, k);
+            const Index n = nodes.node(i, j, k);
+            const Vec3<float> v_node = grid.velocity.load(n);
+            v_pic += w * v_node;
+            B += Mat3<float>::outer(w * v_node, stencil.offset(i, j, k, grid.dx));
+            if (flip) dv_flip += w * (v_node - grid.velocity_old.load(n));
+          }
+      // C = B D^-1 (Hu et al. 2018): the affine velocity of APIC, and the MLS velocity gradient.
+      C = (kInverseInertiaScale * grid.inverse_dx * grid.inverse_dx) * B;
+      v = flip ? step.flip_alpha * (particles.v.load(p) + dv_flip) + (1.0f - step.flip_alpha) * v_pic : v_pic;
+      x += step.dt * v;
+      F = (Mat3<float>::identity() + step.dt * C) * F;
+    }
+    // Keep the particle's stencil inside the domain; walls normally stop it well before this.
+    for (int a = 0; a < 3; ++a) {
+      const float low = kDomainMarginCells * grid.dx, high = (float(step.domain_cells[a]) - kDomainMarginCells) * grid.dx;
+      x[a] = math::min(math::max(x[a], low), high);
+    }
+    if (!(is_finite(x) && is_finite(v) && is_finite(F) && is_finite(C)))
+      atomic_min(&step.first_failure[int(Stage::G2P)], std::int64_t(p));
+    particles.x.store(p, x);
+    particles.v.store(p, v);
+    particles.C.store(p, C);
+    particles.F.store(p, F);
+  }
+};
+
+struct ProjectPlasticity {
+  ParticleView particles;
+  StepParams step;
+
+  ROMP_HD void operator()(Index p) const {
+    if (particles.dirichlet_group[p] != kNoDirichletGroup) return;
+    const Mat3<float> F = material::project_plastic(step.materials[particles.material[p]], particles.F.load(p));
+    if (!is_finite(F)) atomic_min(&step.first_failure[int(Stage::Plasticity)], std::int64_t(p));
+    particles.F.store(p, F);
+  }
+};
+
+struct MaxSpeed {
+  Vec3Planes<const float> v;
+  Span<float> result;
+  // Speeds are >= 0, so the float max of their values is the max of the speeds.
+  ROMP_HD void operator()(Index p) const { atomic_max(&result[0], norm(v.load(p))); }
+};
+
+}  // namespace
+
+void grid_to_particle(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step) {
+  for_each(exec, particles.count, GridToParticle{particles, grid, step});
+}
+
+void project_plasticity(const Exec& exec, const ParticleView& particles, const StepParams& step) {
+  for_each(exec, particles.count, ProjectPlasticity{particles, step});
+}
+
+float max_particle_speed(const Exec& exec, const ParticleView& particles) {
+  DeviceBuffer<float> result(exec.backend, 1);
+  result.fill_zero(exec.stream);
+  for_each(exec, particles.count, MaxSpeed{Vec3Planes<const float>(particles.v), result.span()});
+  return result.to_host(exec.stream)[0];
+}
+
+}  // namespace romp::mpm

@@ -1,0 +1,81 @@
+// One explicit MLS-MPM substep as three stages over a sparse grid: P2G, grid update, G2P (and the
+// plastic return map when the scene has plastic materials). The host composes them; see FullOrderSim.
+#pragma once
+
+#include <cstdint>
+
+#include "kernels/core/exec.h"
+#include "kernels/core/span.h"
+#include "kernels/material/material.h"
+#include "kernels/math/mat3.h"
+#include "kernels/mpm/collider.h"
+#include "kernels/mpm/particle_set.h"
+#include "kernels/mpm/sparse_grid.h"
+
+namespace romp::mpm {
+
+enum class Transfer : std::int32_t {
+  Apic = 0,     // MLS-MPM with APIC affine momentum (Hu et al. 2018); conserves angular momentum
+  PicFlip = 1,  // PIC/FLIP blend of velocities; the affine matrix is kept only as the velocity gradient
+};
+
+// Particles strictly inside the domain by this many cells: their stencil never leaves [0, L]^3, and
+// the truncation in QuadraticStencil is a floor.
+inline constexpr float kDomainMarginCells = 1.0f;
+
+// A prescribed rigid motion over the substep [t, t + dt]: v(x) = linear + angular × (x − pivot(t)).
+struct RigidMotion {
+  Vec3<float> pivot;             // at the start of the substep
+  Vec3<float> linear_velocity;
+  Vec3<float> angular_velocity;
+  Mat3<float> step_rotation;     // exp(dt [angular]×), so rotating particles stay on their circles
+};
+
+enum class RegionShape : std::int32_t { Box = 0, Sphere = 1 };
+
+// An acceleration applied to the particles inside a region (a poke), active for this substep.
+struct RegionLoad {
+  RegionShape shape = RegionShape::Box;
+  Vec3<float> center;
+  Vec3<float> half_extents;  // box half sizes; a sphere's radius is half_extents[0]
+  Vec3<float> acceleration;  // m/s^2
+
+  ROMP_HD bool contains(const Vec3<float>& x) const {
+    const Vec3<float> d = x - center;
+    if (shape == RegionShape::Sphere) return squared_norm(d) <= half_extents[0] * half_extents[0];
+    return math::abs(d[0]) <= half_extents[0] && math::abs(d[1]) <= half_extents[1] &&
+           math::abs(d[2]) <= half_extents[2];
+  }
+};
+
+// Stages that can fail, and the slot each records its first offending particle or node in.
+enum class Stage : std::int32_t { P2G = 0, GridUpdate = 1, G2P = 2, Plasticity = 3 };
+inline constexpr int kStageCount = 4;
+inline constexpr std::int64_t kNoFailure = INT64_MAX;
+
+struct StepParams {
+  float dt = 0.0f;
+  Vec3<float> gravity;
+  Transfer transfer = Transfer::Apic;
+  float flip_alpha = 0.95f;               // FLIP share of the PIC/FLIP blend
+  std::int32_t domain_cells[3] = {0, 0, 0};  // the domain is [0, cells dx] per axis
+  std::int32_t wall_cells = 0;            // nodes this close to a domain face are wall nodes
+  ContactType wall_contact = ContactType::Separate;
+  float wall_friction = 0.0f;
+  Span<const material::MaterialParams<float>> materials;
+  Span<const ColliderState> colliders;
+  Span<const RigidMotion> dirichlet;
+  Span<const RegionLoad> loads;
+  Span<std::int64_t> first_failure;       // kStageCount slots, kNoFailure until a stage sees a non-finite value
+};
+
+void particle_to_grid(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step);
+void update_grid(const Exec& exec, const GridView& grid, const StepParams& step);
+void grid_to_particle(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step);
+// The return map of each plastic material, on particles not in a Dirichlet group.
+void project_plasticity(const Exec& exec, const ParticleView& particles, const StepParams& step);
+
+// The largest particle speed (for the CFL condition); synchronises with the host.
+float max_particle_speed(const Exec& exec, const ParticleView& particles);
+
+}  // namespace romp::mpm

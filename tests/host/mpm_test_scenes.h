@@ -1,0 +1,36 @@
+// Small particle bodies and energy/momentum measures for the full-order MPM verification tests.
+#pragma once
+
+#include <cmath>
+#include <vector>
+
+#include "host/box_lattice.h"
+#include "host/full_order_sim.h"
+#include "kernels/math/vec3.h"
+
+namespace romp::test {
+
+// Particles on a lattice filling the box [low, high), `per_cell` per cell per axis, at density rho.
+inline mpm::ParticleInit lattice_box(const Vec3<float>& low, const Vec3<float>& high, float dx, int per_cell, float rho) {
+  return sample_box_lattice(low, high, dx / float(per_cell), rho);
+}
+
+inline Vec3<float> plane_vector(const std::vector<float>& planes, Index count, Index p) {
+  return Vec3<float>(planes[p], planes[count + p], planes[2 * count + p]);
+}
+
+inline void set_plane_vector(std::vector<float>& planes, Index count, Index p, const Vec3<float>& value) {
+  for (int a = 0; a < 3; ++a) planes[a * count + p] = value[a];
+}
+
+// A configuration with no gravity, no walls in reach, and one material.
+inline FullOrderConfig open_space_config(float dx, int cells, const MaterialSpec& material) {
+  FullOrderConfig config;
+  config.dx = dx;
+  config.domain_cells = {cells, cells, cells};
+  config.gravity = Vec3<float>::zero();
+  config.materials = {material};
+  return config;
+}
+
+}  // namespace romp::test
