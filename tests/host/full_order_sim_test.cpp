@@ -369,6 +369,30 @@ TEST(FullOrderSim, FallingBodyRestsOnAStaticCollider) {
   EXPECT_LE(lowest, 0.35f + 1.5f * dx);
 }
 
+TEST(FullOrderSim, MovingColliderPushesTheBodyAhead) {
+  const float dx = 1.0f / 32.0f;
+  FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
+  mpm::ColliderState paddle;
+  paddle.shape = mpm::ColliderShape::Box;
+  paddle.contact = mpm::ContactType::Separate;
+  paddle.center = Vec3<float>(0.3f, 0.5f, 0.5f);
+  paddle.rotation = Mat3<float>::identity();
+  paddle.half_extents = Vec3<float>(0.05f, 0.2f, 0.2f);
+  paddle.linear_velocity = Vec3<float>(0.5f, 0.0f, 0.0f);
+  paddle.angular_velocity = Vec3<float>::zero();
+  config.colliders = {ColliderSpec{paddle}};
+  const mpm::ParticleInit init = test::lattice_box({0.40f, 0.45f, 0.45f}, {0.50f, 0.55f, 0.55f}, dx, 2, kJellyDensity);
+  FullOrderSim sim(test::exec(), config, init);
+  sim.advance_to(0.3);  // the paddle's face travels from x = 0.35 to 0.50
+  const std::vector<float> x = sim.particles().positions_in_initial_order(test::exec());
+  const Index n = init.count();
+  const float face = 0.35f + 0.5f * float(sim.time());
+  const float rearmost = *std::min_element(x.begin(), x.begin() + n);
+  // Pushed, not penetrated: the body stays ahead of the face (within the 1.5 dx contact reach).
+  EXPECT_GT(rearmost, face);
+  EXPECT_LE(rearmost, face + 1.5f * dx);
+}
+
 TEST(FullOrderSim, NonFiniteStateStopsWithStageAndParticle) {
   const float dx = 1.0f / 16.0f;
   FullOrderConfig config = test::open_space_config(dx, 16, jelly(1e4f, 0.3f));
