@@ -12,6 +12,8 @@ namespace {
 
 // Blocks to provision before the first rebuild has counted them (grows on demand).
 constexpr Index kInitialBlocks = 256;
+// Storage is shrunk when it exceeds the active blocks by this factor (and grown by 2 when short).
+constexpr Index kShrinkFactor = 8;
 
 struct ActivateStencilBlocks {
   Vec3Planes<const float> positions;
@@ -73,6 +75,10 @@ GridView SparseGrid::view() {
 }
 
 void SparseGrid::rebuild(const Exec& exec, Vec3Planes<const float> positions) {
+  // Give memory back once the particles occupy far fewer blocks than provisioned (after a splash
+  // settles, say): memory follows the occupied blocks in both directions.
+  if (blocks_ > 0 && blocks_ * kShrinkFactor < max_blocks_ && max_blocks_ > kInitialBlocks)
+    allocate(std::max<Index>(kInitialBlocks, 2 * blocks_));
   while (true) {
     keys_.fill_zero(exec.stream);
     counters_.fill_zero(exec.stream);

@@ -81,6 +81,22 @@ TEST(SparseGrid, InactiveBlockIsNotFound) {
   EXPECT_EQ(found.to_host(exec.stream)[0], -1);
 }
 
+TEST(SparseGrid, MemoryFollowsTheOccupiedBlocksDownAgain) {
+  const Exec& exec = test::exec();
+  const Index n = 20000;
+  const std::vector<float> spread = random_positions(n, 2 * kDx, 1.0f - 2 * kDx, 5);
+  const std::vector<float> clustered(3 * n, 0.5f);
+  const DeviceBuffer<float> wide = DeviceBuffer<float>::from_host(exec.backend, spread, exec.stream);
+  const DeviceBuffer<float> narrow = DeviceBuffer<float>::from_host(exec.backend, clustered, exec.stream);
+  SparseGrid grid(exec.backend, kDx, false);
+  grid.rebuild(exec, Vec3Planes<const float>(wide.data(), n));
+  const std::size_t grown = grid.bytes();
+  grid.rebuild(exec, Vec3Planes<const float>(narrow.data(), n));
+  grid.rebuild(exec, Vec3Planes<const float>(narrow.data(), n));
+  EXPECT_LE(grid.active_blocks(), 8);
+  EXPECT_LT(grid.bytes() * 10, grown) << "storage stayed sized for the spread-out particles";
+}
+
 TEST(ParticleSet, BlockSortIsAPermutationThatCanBeUndone) {
   const Exec& exec = test::exec();
   const Index n = 5000;
