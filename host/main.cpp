@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include <exception>
+#include <string>
 
 #include "host/backend_selection.h"
 #include "host/build_info.h"
@@ -24,7 +25,8 @@ romp::NclawMaterial parse_material(const std::string& name) {
   if (name == "jelly") return romp::NclawMaterial::Jelly;
   if (name == "sand") return romp::NclawMaterial::Sand;
   if (name == "plasticine") return romp::NclawMaterial::Plasticine;
-  return romp::NclawMaterial::Water;
+  if (name == "water") return romp::NclawMaterial::Water;
+  throw romp::Error("--material '" + name + "': allowed values are jelly, sand, plasticine, water");
 }
 
 int run_demo(romp::DeviceChoice choice, int threads, const std::string& material, int steps) {
