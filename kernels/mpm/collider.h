@@ -16,15 +16,15 @@ enum class ColliderShape : std::int32_t { HalfSpace = 0, Box = 1, Sphere = 2, Cy
 //   HalfSpace: the solid is local y < 0 (its surface passes through `center`, normal = rotation e_y).
 //   Box: |x_local| <= half_extents per axis.   Sphere: |x_local| <= half_extents[0].
 //   Cylinder: axis local y, radius half_extents[0], |y_local| <= half_extents[1].
-struct ColliderState {
+struct ColliderState {  // trivially copyable: the host uploads an array of them each substep
   ColliderShape shape = ColliderShape::HalfSpace;
   ContactType contact = ContactType::Sticky;
   float friction = 0.0f;
-  Vec3<float> center;
-  Mat3<float> rotation;
-  Vec3<float> half_extents;
-  Vec3<float> linear_velocity;   // of the center
-  Vec3<float> angular_velocity;  // about the center, world frame
+  Vec3<float> center = Vec3<float>::zero();
+  Mat3<float> rotation = Mat3<float>::identity();
+  Vec3<float> half_extents = Vec3<float>::zero();
+  Vec3<float> linear_velocity = Vec3<float>::zero();   // of the center; the default collider is static
+  Vec3<float> angular_velocity = Vec3<float>::zero();  // about the center, world frame
 
   ROMP_HD Vec3<float> velocity_at(const Vec3<float>& x) const {
     return linear_velocity + cross(angular_velocity, x - center);

@@ -244,12 +244,9 @@ double sand_heap_angle_degrees(float friction_angle, float width, float height_0
                                        material::lame_from_young_poisson(1e5f, 0.2f), friction_angle, 0.0f),
                                    1000.0f}};
   const float floor = 0.1f;
-  mpm::ColliderState ground;
-  ground.shape = mpm::ColliderShape::HalfSpace;
+  mpm::ColliderState ground;  // a static half-space, solid below y = floor
   ground.contact = mpm::ContactType::Sticky;
   ground.center = Vec3<float>(0.5f, floor, 0.0f);
-  ground.rotation = Mat3<float>::identity();
-  ground.half_extents = ground.linear_velocity = ground.angular_velocity = Vec3<float>::zero();
   config.colliders = {ColliderSpec{ground}};
   const float z_low = 3 * dx, z_high = 7 * dx;
   const mpm::ParticleInit init = test::lattice_box({0.5f - 0.5f * width, floor, z_low}, {0.5f + 0.5f * width, floor + height_0, z_high}, dx, 2, 1000.0f);
@@ -353,9 +350,7 @@ TEST(FullOrderSim, FallingBodyRestsOnAStaticCollider) {
   table.shape = mpm::ColliderShape::Box;
   table.contact = mpm::ContactType::Sticky;
   table.center = Vec3<float>(0.5f, 0.3f, 0.5f);
-  table.rotation = Mat3<float>::identity();
   table.half_extents = Vec3<float>(0.2f, 0.05f, 0.2f);
-  table.linear_velocity = table.angular_velocity = Vec3<float>::zero();
   config.colliders = {ColliderSpec{table}};
   const mpm::ParticleInit init = test::lattice_box({0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}, dx, 2, kJellyDensity);
   FullOrderSim sim(test::exec(), config, init);
@@ -376,10 +371,8 @@ TEST(FullOrderSim, MovingColliderPushesTheBodyAhead) {
   paddle.shape = mpm::ColliderShape::Box;
   paddle.contact = mpm::ContactType::Separate;
   paddle.center = Vec3<float>(0.3f, 0.5f, 0.5f);
-  paddle.rotation = Mat3<float>::identity();
   paddle.half_extents = Vec3<float>(0.05f, 0.2f, 0.2f);
   paddle.linear_velocity = Vec3<float>(0.5f, 0.0f, 0.0f);
-  paddle.angular_velocity = Vec3<float>::zero();
   config.colliders = {ColliderSpec{paddle}};
   const mpm::ParticleInit init = test::lattice_box({0.40f, 0.45f, 0.45f}, {0.50f, 0.55f, 0.55f}, dx, 2, kJellyDensity);
   FullOrderSim sim(test::exec(), config, init);

@@ -46,10 +46,7 @@ ColliderState collider(ColliderShape shape, const V& half) {
   ColliderState c;
   c.shape = shape;
   c.center = V(0.5f, 0.5f, 0.5f);
-  c.rotation = Mat3<float>::identity();
   c.half_extents = half;
-  c.linear_velocity = V::zero();
-  c.angular_velocity = V::zero();
   return c;
 }
 
