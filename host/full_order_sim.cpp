@@ -168,8 +168,21 @@ void FullOrderSim::advance_to(double t) {
   while (time_ < t) {
     const double dt = stable_dt();
     const double remaining = t - time_;
-    substep(float(remaining < dt * (1.0 + kMergeFraction) ? remaining : dt));
+    if (remaining >= dt * (1.0 + kMergeFraction)) {
+      substep(float(dt));
+      continue;
+    }
+    // The last substep lands on t: the clock takes t itself, not the sum with the float Δt, whose
+    // rounding would leave a sliver of time for one more, needless substep.
+    substep(float(remaining));
+    time_ = t;
   }
+}
+
+void FullOrderSim::restore_clock(double time, std::int64_t steps) {
+  ROMP_CHECK(time >= 0.0 && steps >= 0, fmt::format("restored clock must be >= 0, got t = {}, step {}", time, steps));
+  time_ = time;
+  steps_ = steps;
 }
 
 std::vector<std::pair<std::string, double>> FullOrderSim::stage_seconds() const { return stage_seconds_; }

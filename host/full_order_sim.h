@@ -84,6 +84,8 @@ class FullOrderSim {
   void substep(float dt);
   // Substeps until time() reaches t (the last substep is shortened to land on t).
   void advance_to(double t);
+  // Sets the clock of a run resumed from a checkpoint whose particle state was passed to the constructor.
+  void restore_clock(double time, std::int64_t steps);
 
   double time() const { return time_; }
   std::int64_t steps() const { return steps_; }

@@ -18,13 +18,14 @@
 namespace romp::mpm {
 namespace {
 
-struct SetIdentityAndIota {
+struct SetIdentity {
   Mat3Planes<float> F;
+  ROMP_HD void operator()(Index p) const { F.store(p, Mat3<float>::identity()); }
+};
+
+struct SetIota {
   Span<std::int32_t> id;
-  ROMP_HD void operator()(Index p) const {
-    F.store(p, Mat3<float>::identity());
-    id[p] = std::int32_t(p);
-  }
+  ROMP_HD void operator()(Index p) const { id[p] = std::int32_t(p); }
 };
 
 struct BlockKeyOfParticle {
@@ -64,7 +65,8 @@ void permute(const Exec& exec, DeviceBuffer<T>& planes, int components, const De
   planes = std::move(sorted);
 }
 
-void sort_pairs(const Exec& exec, DeviceBuffer<std::uint64_t>& keys, DeviceBuffer<std::int32_t>& order) {
+void sort_pairs(const Exec& exec, DeviceBuffer<std::uint64_t>& keys, DeviceBuffer<std::int32_t>& order,
+                const DeviceBuffer<std::int32_t>& id) {
   const Index n = keys.size();
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
@@ -86,9 +88,13 @@ void sort_pairs(const Exec& exec, DeviceBuffer<std::uint64_t>& keys, DeviceBuffe
     throw Error("sort_pairs on CUDA from a translation unit not compiled by nvcc");
 #endif
   }
-  // CPU: a stable sort of the index by key gives the same permutation as the GPU's stable radix sort.
-  std::uint64_t* k = keys.data();
-  std::stable_sort(order.data(), order.data() + n, [k](std::int32_t a, std::int32_t b) { return k[a] < k[b]; });
+  // CPU: ties broken by the initial index (unique), so the permutation does not depend on the order
+  // the particles arrived in.
+  const std::uint64_t* k = keys.data();
+  const std::int32_t* initial = id.data();
+  std::sort(order.data(), order.data() + n, [k, initial](std::int32_t a, std::int32_t b) {
+    return k[a] < k[b] || (k[a] == k[b] && initial[a] < initial[b]);
+  });
 }
 
 }  // namespace
@@ -98,21 +104,28 @@ ParticleSet::ParticleSet(Backend backend, const ParticleInit& init) : backend_(b
   ROMP_CHECK(n > 0, "a particle set needs at least one particle");
   ROMP_CHECK(Index(init.x.size()) == 3 * n && Index(init.v.size()) == 3 * n,
              "particle positions and velocities need 3 planes of " + std::to_string(n));
+  ROMP_CHECK((init.F.empty() || Index(init.F.size()) == 9 * n) && (init.C.empty() || Index(init.C.size()) == 9 * n),
+             "particle F and C need 9 planes of " + std::to_string(n) + " (or none)");
   ROMP_CHECK(Index(init.volume0.size()) == n && Index(init.material.size()) == n &&
                  Index(init.dirichlet_group.size()) == n,
              "every per-particle array needs " + std::to_string(n) + " entries");
   x_ = DeviceBuffer<float>::from_host(backend, init.x);
   v_ = DeviceBuffer<float>::from_host(backend, init.v);
-  C_ = DeviceBuffer<float>(backend, 9 * n);
-  C_.fill_zero();
-  F_ = DeviceBuffer<float>(backend, 9 * n);
+  if (init.C.empty()) {
+    C_ = DeviceBuffer<float>(backend, 9 * n);
+    C_.fill_zero();
+  } else {
+    C_ = DeviceBuffer<float>::from_host(backend, init.C);
+  }
+  F_ = init.F.empty() ? DeviceBuffer<float>(backend, 9 * n) : DeviceBuffer<float>::from_host(backend, init.F);
   mass_ = DeviceBuffer<float>::from_host(backend, init.mass);
   volume0_ = DeviceBuffer<float>::from_host(backend, init.volume0);
   material_ = DeviceBuffer<std::int32_t>::from_host(backend, init.material);
   dirichlet_group_ = DeviceBuffer<std::int32_t>::from_host(backend, init.dirichlet_group);
   id_ = DeviceBuffer<std::int32_t>(backend, n);
   const Exec exec = backend == Backend::Cuda ? Exec::cuda() : Exec::cpu();
-  for_each(exec, n, SetIdentityAndIota{Mat3Planes<float>(F_.data(), n), id_.span()});
+  if (init.F.empty()) for_each(exec, n, SetIdentity{Mat3Planes<float>(F_.data(), n)});
+  for_each(exec, n, SetIota{id_.span()});
   synchronize(exec);
 }
 
@@ -140,7 +153,7 @@ void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
   DeviceBuffer<std::uint64_t> keys(backend_, n);
   DeviceBuffer<std::int32_t> order(backend_, n);
   for_each(exec, n, BlockKeyOfParticle{Vec3Planes<const float>(x_.data(), n), keys.span(), order.span(), inverse_dx});
-  sort_pairs(exec, keys, order);
+  sort_pairs(exec, keys, order, id_);
   permute(exec, x_, 3, order);
   permute(exec, v_, 3, order);
   permute(exec, C_, 9, order);

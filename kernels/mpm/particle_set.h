@@ -26,9 +26,11 @@ struct ParticleView {
   Span<std::int32_t> id;       // index of the particle in the initial state (sorting permutes the arrays)
 };
 
-// Host-side description of the initial particles (planes as in ParticleView, F = I, C = 0 implied).
+// Host-side description of the initial particles (planes as in ParticleView). F and C may be left
+// empty (F = I, C = 0); a resumed run fills them from its checkpoint.
 struct ParticleInit {
   std::vector<float> x, v;          // 3 planes each
+  std::vector<float> F, C;          // 9 planes each, or empty
   std::vector<float> mass, volume0;
   std::vector<std::int32_t> material, dirichlet_group;
   Index count() const { return Index(mass.size()); }
@@ -43,8 +45,10 @@ class ParticleSet {
   Backend backend() const { return backend_; }
   std::size_t bytes() const;
 
-  // Reorders the particles by the grid block that holds their stencil's base node (radix sort on the
-  // block key on CUDA, a stable sort on the CPU), so neighbours in memory are neighbours in space.
+  // Reorders the particles by the grid block that holds their stencil's base node, so neighbours in
+  // memory are neighbours in space. CUDA: a stable radix sort on the block key. CPU: by block, then
+  // by initial index, so the order is a function of the positions alone and a run resumed from a
+  // checkpoint sums particle contributions in the same order as the uninterrupted run.
   void sort_by_block(const Exec& exec, float inverse_dx);
 
   // Copies of the state in the order of the initial particles (undoing sort_by_block).
