@@ -1,0 +1,65 @@
+// Checkpoint files: written under a temporary name through romp_hdf5, renamed when closed.
+#include "host/io/checkpoint.h"
+
+#include <fmt/format.h>
+
+#include "host/io/atomic_file.h"
+#include "kernels/core/error.h"
+#include "nn/hdf5_file.h"
+
+namespace romp::io {
+namespace {
+
+}  // namespace
+
+void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
+  const FrameData& state = checkpoint.state;
+  const std::uint64_t n = std::uint64_t(state.x.size() / 3);
+  for (const FieldInfo& info : kFieldInfos) {
+    if (state.field(info.bit).size() != info.components * n) {
+      throw Error(fmt::format("checkpoint {}: field {} has {} values, expected {} ({} planes of {} particles)", path,
+                              info.name, state.field(info.bit).size(), info.components * n, info.components, n));
+    }
+  }
+  AtomicFile target(path);
+  hdf5::File file = hdf5::File::create(target.temp_path(), "checkpoint");
+  file.write_attribute("format", kCheckpointFormat);
+  file.write_attribute("format_version", kCheckpointFormatVersion);
+  file.write_attribute("particle_count", std::int64_t(n));
+  file.write_attribute("frame", checkpoint.frame);
+  file.write_attribute("time", state.time);
+  file.write_attribute("step", state.step);
+  file.write_attribute("tag", checkpoint.tag);
+  for (const FieldInfo& info : kFieldInfos) {
+    file.write_dataset(info.name, {std::uint64_t(info.components), n}, state.field(info.bit));
+  }
+  file.close();
+  target.commit();
+}
+
+Checkpoint read_checkpoint(const std::string& path) {
+  hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadOnly, "checkpoint");
+  if (!file.has_attribute("format") || file.read_string_attribute("format") != kCheckpointFormat) {
+    throw Error(fmt::format("{}: not a romp checkpoint (root attribute format is not \"{}\")", file.label(),
+                            kCheckpointFormat));
+  }
+  const std::int64_t version = file.read_int64_attribute("format_version");
+  if (version != kCheckpointFormatVersion) {
+    throw Error(fmt::format("{}: format_version {}, this romp reads {}", file.label(), version,
+                            kCheckpointFormatVersion));
+  }
+  const std::int64_t n = file.read_int64_attribute("particle_count");
+  if (n < 0) throw Error(fmt::format("{}: particle_count {} is negative", file.label(), n));
+  Checkpoint checkpoint;
+  checkpoint.frame = file.read_int64_attribute("frame");
+  checkpoint.state.time = file.read_double_attribute("time");
+  checkpoint.state.step = file.read_int64_attribute("step");
+  checkpoint.tag = file.read_string_attribute("tag");
+  for (const FieldInfo& info : kFieldInfos) {
+    checkpoint.state.field(info.bit) =
+        file.read_dataset<float>(info.name, {std::uint64_t(info.components), std::uint64_t(n)});
+  }
+  return checkpoint;
+}
+
+}  // namespace romp::io

@@ -1,0 +1,36 @@
+// Checkpoints for --resume: the full particle state at a frame, in a small HDF5 file of its own that
+// is replaced atomically, so the one on disk is always complete.
+//
+// Layout: root attributes format = "romp-checkpoint", format_version = 1, particle_count, frame (i64),
+// time (f64), step (i64), tag (string); datasets x [3,n], v [3,n], F [9,n], C [9,n] (f32, engine planes
+// as they are: only romp reads this file).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "host/io/snapshot_layout.h"
+
+namespace romp::io {
+
+inline constexpr const char* kCheckpointFormat = "romp-checkpoint";
+inline constexpr std::int64_t kCheckpointFormatVersion = 1;
+
+struct Checkpoint {
+  // Time, step and all four fields (planes, particles in initial order), whatever the snapshot selects.
+  FrameData state;
+  // The snapshot frame this state is: frames 0 .. frame were appended before the checkpoint was
+  // written, and a resumed run reopens the snapshot with SnapshotWriter::resume(..., frame + 1).
+  std::int64_t frame = 0;
+  // Opaque to io: what the runner checks before trusting the checkpoint (the resolved scene text).
+  std::string tag;
+};
+
+// Replaces `path` (normally checkpoint_path(snapshot)) with `checkpoint`. Write it after its frame has
+// been appended to the snapshot.
+void write_checkpoint(const std::string& path, const Checkpoint& checkpoint);
+
+// Reads a checkpoint back bit for bit; errors name the file and what is wrong with it.
+Checkpoint read_checkpoint(const std::string& path);
+
+}  // namespace romp::io
