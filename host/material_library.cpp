@@ -1,26 +1,71 @@
-// Parameters of the named materials.
+// Parameters of the named materials, and scene materials as engine parameters.
 #include "host/material_library.h"
 
 namespace romp {
-namespace {
 
-using Params = material::MaterialParams<float>;
-constexpr float kNclawDensity = 1e3f;
+std::optional<NclawMaterial> nclaw_material_named(const std::string& name) {
+  if (name == "jelly") return NclawMaterial::Jelly;
+  if (name == "sand") return NclawMaterial::Sand;
+  if (name == "plasticine") return NclawMaterial::Plasticine;
+  if (name == "water") return NclawMaterial::Water;
+  return std::nullopt;
+}
 
-}  // namespace
-
-MaterialSpec nclaw_material(NclawMaterial which) {
+scene::MaterialSpecification nclaw_preset(NclawMaterial which) {
+  using material::MaterialModel;
+  scene::MaterialSpecification m;
+  m.density = 1e3;
   switch (which) {
     case NclawMaterial::Jelly:  // fixed corotated, E = 1e5, ν = 0.2, no plasticity
-      return {Params::fixed_corotated(material::lame_from_young_poisson(1e5f, 0.2f)), kNclawDensity};
+      m.name = "jelly";
+      m.model = MaterialModel::FixedCorotated;
+      m.youngs_modulus = 1e5;
+      m.poissons_ratio = 0.2;
+      break;
     case NclawMaterial::Sand:  // Hencky, E = 1e6, ν = 0.2, Drucker–Prager φ = 25°, no cohesion
-      return {Params::drucker_prager(material::lame_from_young_poisson(1e6f, 0.2f), 25.0f, 0.0f), kNclawDensity};
+      m.name = "sand";
+      m.model = MaterialModel::DruckerPrager;
+      m.youngs_modulus = 1e6;
+      m.poissons_ratio = 0.2;
+      m.friction_angle = 25.0;
+      m.cohesion = 0.0;
+      break;
     case NclawMaterial::Plasticine:  // Hencky, E = 3e5, ν = 0.25, von Mises τ_y = 5e3 Pa
-      return {Params::von_mises(material::lame_from_young_poisson(3e5f, 0.25f), 5e3f), kNclawDensity};
+      m.name = "plasticine";
+      m.model = MaterialModel::VonMises;
+      m.youngs_modulus = 3e5;
+      m.poissons_ratio = 0.25;
+      m.yield_stress = 5e3;
+      break;
     case NclawMaterial::Water:  // τ = λ J (J − 1) I with λ of E = 1e5, ν = 0.3
-      return {Params::weakly_compressible_fluid(material::lame_from_young_poisson(1e5f, 0.3f).lambda), kNclawDensity};
+      m.name = "water";
+      m.model = MaterialModel::WeaklyCompressibleFluid;
+      m.youngs_modulus = 1e5;
+      m.poissons_ratio = 0.3;
+      break;
   }
-  return {};
+  return m;
 }
+
+MaterialSpec to_material_spec(const scene::MaterialSpecification& m) {
+  using material::MaterialModel;
+  using Params = material::MaterialParams<float>;
+  const material::Lame<float> lame =
+      material::lame_from_young_poisson(float(m.youngs_modulus), float(m.poissons_ratio));
+  Params params{};
+  switch (m.model) {
+    case MaterialModel::FixedCorotated: params = Params::fixed_corotated(lame); break;
+    case MaterialModel::NeoHookean: params = Params::neo_hookean(lame); break;
+    case MaterialModel::HenckyStVK: params = Params::hencky_stvk(lame); break;
+    case MaterialModel::VonMises: params = Params::von_mises(lame, float(m.yield_stress)); break;
+    case MaterialModel::DruckerPrager:
+      params = Params::drucker_prager(lame, float(m.friction_angle), float(m.cohesion));
+      break;
+    case MaterialModel::WeaklyCompressibleFluid: params = Params::weakly_compressible_fluid(lame.lambda); break;
+  }
+  return {params, float(m.density)};
+}
+
+MaterialSpec nclaw_material(NclawMaterial which) { return to_material_spec(nclaw_preset(which)); }
 
 }  // namespace romp

@@ -1,0 +1,131 @@
+// Scene: the resolved content of a scene file (SI units, every default filled in, formulas evaluated).
+// The parser builds it; scene_setup turns it into particles and a FullOrderConfig.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <optional>
+
+#include "host/scene/sweep.h"
+#include "kernels/material/material.h"
+#include "kernels/math/mat3.h"
+#include "kernels/math/vec3.h"
+#include "kernels/mpm/collider.h"
+
+namespace romp::scene {
+
+enum class ShapeType { Box, Sphere, Cylinder, Capsule, Mesh };
+
+// A solid region: the body of an object, a Dirichlet region or a poke region.
+struct ShapeSpec {
+  ShapeType type = ShapeType::Box;
+  Vec3<double> center = Vec3<double>::zero();  // box, sphere, cylinder, mesh (its bounding-box centre)
+  Vec3<double> size = Vec3<double>::zero();    // box: full extents along its local axes
+  Mat3<double> rotation = Mat3<double>::identity();  // box, mesh: local-to-world
+  double radius = 0.0;                         // sphere, cylinder, capsule
+  double height = 0.0;                         // cylinder: full length along `axis`
+  Vec3<double> axis = Vec3<double>(0.0, 1.0, 0.0);  // cylinder (unit)
+  Vec3<double> a = Vec3<double>::zero(), b = Vec3<double>::zero();  // capsule segment
+  std::string mesh_file;                       // mesh: absolute path (resolved against the scene's folder)
+  double mesh_extent = 0.0;                    // mesh: the largest side of its bounding box after scaling
+};
+
+enum class SamplingMethod { Lattice, JitteredLattice, PoissonDisk };
+
+struct SamplingSpec {
+  SamplingMethod method = SamplingMethod::Lattice;
+  std::int32_t per_cell = 2;  // particles per grid cell per dimension
+  double jitter = 1.0;        // jittered lattice: displacement up to ±jitter h / 2
+  std::uint64_t seed = 0;
+};
+
+struct MaterialSpecification {
+  std::string name;
+  material::MaterialModel model = material::MaterialModel::FixedCorotated;
+  double density = 1000.0;         // kg/m^3
+  double youngs_modulus = 1e5;     // Pa
+  double poissons_ratio = 0.3;
+  double yield_stress = 0.0;       // von Mises (Pa)
+  double friction_angle = 30.0;    // Drucker–Prager (degrees)
+  double cohesion = 0.0;           // Drucker–Prager
+};
+
+struct ObjectSpec {
+  std::string name;
+  std::int32_t material = 0;  // index into Scene::materials
+  ShapeSpec shape;
+  SamplingSpec sampling;
+  Vec3<double> velocity = Vec3<double>::zero();
+  Vec3<double> angular_velocity = Vec3<double>::zero();  // rad/s about the sampled body's centre of mass
+};
+
+struct ColliderSpecification {
+  // As mpm::ColliderState: a plane's solid is local y < 0, a cylinder's axis is local y.
+  mpm::ColliderShape shape = mpm::ColliderShape::HalfSpace;
+  Vec3<double> center = Vec3<double>::zero();
+  Mat3<double> rotation = Mat3<double>::identity();
+  Vec3<double> half_extents = Vec3<double>::zero();
+  mpm::ContactType contact = mpm::ContactType::Sticky;
+  double friction = 0.0;
+  Vec3<double> velocity = Vec3<double>::zero();
+  Vec3<double> angular_velocity = Vec3<double>::zero();
+};
+
+// Particles inside `region` at t = 0 (first matching group wins) follow a prescribed rigid motion.
+struct DirichletGroupSpec {
+  std::string name;
+  ShapeSpec region;
+  Vec3<double> velocity = Vec3<double>::zero();
+  Vec3<double> angular_velocity = Vec3<double>::zero();
+  Vec3<double> pivot = Vec3<double>::zero();  // a point on the rotation axis at t = 0
+};
+
+// An acceleration on the particles inside a box or sphere during [start, end): a poke.
+struct PokeSpec {
+  ShapeSpec region;  // box (axis-aligned) or sphere
+  Vec3<double> acceleration = Vec3<double>::zero();
+  double start = 0.0, end = 0.0;
+};
+
+struct OutputSpec {
+  std::string file;                               // snapshot path (.h5)
+  std::vector<std::string> fields{"x", "v", "F", "C"};
+  bool ply = false;
+};
+
+struct Scene {
+  std::string name, description;
+  std::string mode = "full-order";
+  // Domain [0, size] per axis, cells of side dx.
+  Vec3<double> domain_size = Vec3<double>::zero();
+  double dx = 0.0;
+  std::int32_t domain_cells[3] = {0, 0, 0};
+  // Time.
+  double end_time = 0.0, frame_rate = 0.0;
+  double fixed_dt = 0.0, cfl = 0.5, max_dt = 1e-3;
+  std::int64_t frame_count = 0;  // frames after the initial one: end_time × frame_rate
+  // Solver and walls.
+  std::string transfer = "apic";
+  double flip_alpha = 0.95;
+  std::int32_t wall_cells = 3;
+  mpm::ContactType wall_contact = mpm::ContactType::Separate;
+  double wall_friction = 0.0;
+  Vec3<double> gravity = Vec3<double>(0.0, -9.81, 0.0);
+  std::vector<MaterialSpecification> materials;
+  std::vector<ObjectSpec> objects;
+  std::vector<ColliderSpecification> colliders;
+  std::vector<DirichletGroupSpec> dirichlet;
+  std::vector<PokeSpec> pokes;
+  OutputSpec output;
+  // The parameters the formulas saw (a sweep member's values), in declaration-independent name order.
+  std::map<std::string, double> parameters;
+  // The whole scene as resolved TOML: what `romp check` prints and what outputs store.
+  std::string resolved_text;
+  std::string source_file;
+  std::optional<SweepSpec> sweep;
+};
+
+}  // namespace romp::scene

@@ -1,0 +1,29 @@
+// From a resolved Scene to what FullOrderSim takes: the engine configuration and the sampled particles.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "host/full_order_sim.h"
+#include "host/geometry/shape.h"
+#include "host/scene/scene.h"
+#include "kernels/mpm/particle_set.h"
+
+namespace romp::scene {
+
+struct SceneSetup {
+  FullOrderConfig config;
+  mpm::ParticleInit particles;
+  std::vector<Index> particles_per_object;  // in the order of Scene::objects
+};
+
+// The solid a ShapeSpec describes (meshes are loaded and placed here).
+geometry::Shape make_shape(const ShapeSpec& shape);
+
+// Samples every object, sets initial velocities (v + ω × (x − centre of mass) per object), assigns
+// Dirichlet groups (the first region that holds a particle at t = 0) and converts materials,
+// colliders and loads. A body that reaches into the boundary margin or out of the domain is a
+// SceneError naming the object.
+SceneSetup build_scene(const Scene& scene);
+
+}  // namespace romp::scene

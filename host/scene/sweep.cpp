@@ -1,0 +1,139 @@
+// Sweep members: grids, seeded random and Latin-hypercube samples, and the train/test split.
+#include "host/scene/sweep.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "kernels/core/error.h"
+
+namespace romp::scene {
+namespace {
+
+// SplitMix64 (Steele, Lea, Flood 2014): a tiny generator whose stream is the same on every platform
+// and standard library, so a sweep seed names the same members everywhere.
+class SplitMix64 {
+ public:
+  explicit SplitMix64(std::uint64_t seed) : state_(seed) {}
+  std::uint64_t next() {
+    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  // Uniform in [0, 1) with 53 random bits.
+  double uniform() { return double(next() >> 11) * 0x1.0p-53; }
+  // Uniform in [0, n).
+  std::uint64_t below(std::uint64_t n) { return std::uint64_t(uniform() * double(n)); }
+
+ private:
+  std::uint64_t state_;
+};
+
+template <class T>
+void shuffle(std::vector<T>& items, SplitMix64& random) {
+  for (std::size_t i = items.size(); i > 1; --i) std::swap(items[i - 1], items[random.below(i)]);
+}
+
+}  // namespace
+
+SweepSpec read_sweep(TableReader& table, const ParameterValues& declared) {
+  SweepSpec sweep;
+  const std::string method = table.choice("method", "grid", {"grid", "random", "latin-hypercube"});
+  sweep.method = method == "grid" ? SweepMethod::Grid
+                 : method == "random" ? SweepMethod::Random
+                                      : SweepMethod::LatinHypercube;
+  sweep.samples = table.integer("samples", sweep.method == SweepMethod::Grid ? 0 : 16,
+                                sweep.method == SweepMethod::Grid ? Range::closed(0, 0) : Range::closed(1, 1e6));
+  sweep.seed = std::uint64_t(table.integer("seed", 0, Range::closed(0, 9e15)));
+  sweep.test_fraction = table.number("test_fraction", 0.0, Range::closed_open(0.0, 1.0));
+
+  TableReader parameters = table.table("parameters");
+  for (const std::string& name : parameters.keys()) {
+    if (!declared.count(name)) {
+      std::string known;
+      for (const auto& [parameter, value] : declared) known += (known.empty() ? "" : ", ") + parameter;
+      parameters.fail(name, fmt::format("sweeps an undeclared parameter; declare it in [parameters] (declared: {})",
+                                        known.empty() ? "none" : known));
+    }
+    TableReader axis_table = parameters.table(name);
+    SweepAxis axis;
+    axis.parameter = name;
+    if (sweep.method == SweepMethod::Grid && axis_table.has("values")) {
+      axis.values = axis_table.numbers("values", {}, Range::any(), 1, 100000);
+    } else {
+      const std::vector<double> range = axis_table.required_numbers("range", Range::any(), 2, 2);
+      if (!(range[0] < range[1])) axis_table.fail("range", "needs low < high");
+      axis.low = range[0];
+      axis.high = range[1];
+      if (sweep.method == SweepMethod::Grid) {
+        const std::int64_t count = axis_table.integer("count", 2, Range::closed(1, 100000));
+        for (std::int64_t i = 0; i < count; ++i)
+          axis.values.push_back(count == 1 ? 0.5 * (axis.low + axis.high)
+                                           : axis.low + (axis.high - axis.low) * double(i) / double(count - 1));
+      }
+    }
+    axis_table.finish();
+    sweep.axes.push_back(std::move(axis));
+  }
+  if (sweep.axes.empty()) parameters.fail("", "a sweep needs at least one parameter, e.g. [sweep.parameters.gravity]");
+  parameters.finish();
+  return sweep;
+}
+
+std::vector<SweepMember> sweep_members(const SweepSpec& sweep) {
+  std::vector<SweepMember> members;
+  SplitMix64 random(sweep.seed);
+  const std::size_t dimensions = sweep.axes.size();
+  if (sweep.method == SweepMethod::Grid) {
+    std::int64_t count = 1;
+    for (const SweepAxis& axis : sweep.axes) count *= std::int64_t(axis.values.size());
+    ROMP_CHECK(count <= 1000000, fmt::format("the sweep grid has {} members; at most 1e6 are allowed", count));
+    for (std::int64_t m = 0; m < count; ++m) {
+      SweepMember member;
+      member.index = m;
+      std::int64_t rest = m;
+      for (std::size_t d = dimensions; d-- > 0;) {
+        const SweepAxis& axis = sweep.axes[d];
+        const std::int64_t n = std::int64_t(axis.values.size());
+        member.values[axis.parameter] = axis.values[std::size_t(rest % n)];
+        rest /= n;
+      }
+      members.push_back(std::move(member));
+    }
+  } else {
+    const std::int64_t count = sweep.samples;
+    // Latin hypercube: each axis is cut into `count` strata, one sample per stratum, strata paired
+    // across axes by an independent random permutation per axis.
+    std::vector<std::vector<std::int64_t>> strata(dimensions);
+    for (std::size_t d = 0; d < dimensions; ++d) {
+      strata[d].resize(std::size_t(count));
+      std::iota(strata[d].begin(), strata[d].end(), 0);
+      if (sweep.method == SweepMethod::LatinHypercube) shuffle(strata[d], random);
+    }
+    for (std::int64_t m = 0; m < count; ++m) {
+      SweepMember member;
+      member.index = m;
+      for (std::size_t d = 0; d < dimensions; ++d) {
+        const SweepAxis& axis = sweep.axes[d];
+        const double u = sweep.method == SweepMethod::Random
+                             ? random.uniform()
+                             : (double(strata[d][std::size_t(m)]) + random.uniform()) / double(count);
+        member.values[axis.parameter] = axis.low + (axis.high - axis.low) * u;
+      }
+      members.push_back(std::move(member));
+    }
+  }
+  // Seeded split: a random subset of round(test_fraction × N) members is held out.
+  std::vector<std::size_t> order(members.size());
+  std::iota(order.begin(), order.end(), 0);
+  SplitMix64 split_random(sweep.seed ^ 0x5EEDu);
+  shuffle(order, split_random);
+  const auto tests = std::size_t(std::llround(sweep.test_fraction * double(members.size())));
+  for (std::size_t i = 0; i < tests; ++i) members[order[i]].test = true;
+  return members;
+}
+
+}  // namespace romp::scene

@@ -1,0 +1,103 @@
+// Scene files: defaults, formulas, the resolved text, and the corpus of malformed scenes, each
+// rejected with its own message naming the file, line and key.
+#include "host/scene/scene_parser.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "kernels/core/error.h"
+
+namespace romp::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* const kCube = R"(
+[parameters]
+speed = 2.0
+
+[domain]
+size = [1.0, 1.0, 1.0]
+dx = 0.05
+
+[time]
+end = 0.5
+frame_rate = 20
+
+[materials.jelly]
+preset = "jelly"
+
+[[objects]]
+material = "jelly"
+velocity = ["speed", 0, "-speed * 0.5"]
+shape = { type = "box", center = [0.5, 0.5, 0.5], size = [0.5, 0.5, 0.5] }
+)";
+
+TEST(SceneParser, FillsDefaultsAndEvaluatesFormulas) {
+  const Scene scene = parse_scene(kCube, "cube.toml");
+  EXPECT_EQ(scene.name, "cube");
+  EXPECT_EQ(scene.domain_cells[0], 20);
+  EXPECT_EQ(scene.frame_count, 10);
+  EXPECT_EQ(scene.fixed_dt, 0.0);
+  EXPECT_EQ(scene.cfl, 0.5);
+  EXPECT_EQ(scene.wall_cells, 3);
+  ASSERT_EQ(scene.materials.size(), 1u);
+  EXPECT_EQ(scene.materials[0].youngs_modulus, 1e5);
+  EXPECT_EQ(scene.materials[0].poissons_ratio, 0.2);
+  ASSERT_EQ(scene.objects.size(), 1u);
+  EXPECT_EQ(scene.objects[0].velocity, Vec3<double>(2.0, 0.0, -1.0));
+  EXPECT_EQ(scene.objects[0].sampling.per_cell, 2);
+  EXPECT_EQ(scene.gravity, Vec3<double>(0.0, -9.81, 0.0));
+  EXPECT_EQ(scene.output.file, "runs/cube.h5");
+  EXPECT_FALSE(scene.sweep.has_value());
+}
+
+TEST(SceneParser, OverridesReplaceDeclaredParameters) {
+  const Scene scene = parse_scene(kCube, "cube.toml", {{"speed", 4.0}});
+  EXPECT_EQ(scene.objects[0].velocity, Vec3<double>(4.0, 0.0, -2.0));
+  EXPECT_EQ(scene.parameters.at("speed"), 4.0);
+  EXPECT_THROW(parse_scene(kCube, "cube.toml", {{"sped", 4.0}}), Error);
+}
+
+TEST(SceneParser, ResolvedTextIsACompleteSceneThatResolvesToItself) {
+  const Scene scene = parse_scene(kCube, "cube.toml", {{"speed", 3.0}});
+  EXPECT_NE(scene.resolved_text.find("cfl = 0.5"), std::string::npos) << scene.resolved_text;
+  EXPECT_NE(scene.resolved_text.find("youngs_modulus = 100000"), std::string::npos) << scene.resolved_text;
+  const Scene again = parse_scene(scene.resolved_text, "cube.toml");
+  EXPECT_EQ(again.resolved_text, scene.resolved_text);
+  EXPECT_EQ(again.objects[0].velocity, Vec3<double>(3.0, 0.0, -1.5));
+}
+
+// Every file in tests/data/scenes/invalid starts with "# expect: <text>"; parsing must fail with a
+// message that starts with the file name (then line and column where the problem has a place) and
+// contains <text>, which names the key and the allowed values.
+TEST(SceneParser, RejectsEveryMalformedSceneWithItsOwnMessage) {
+  const fs::path folder = fs::path(ROMP_TEST_DATA_DIR) / "scenes" / "invalid";
+  int checked = 0;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    if (entry.path().extension() != ".toml") continue;
+    std::ifstream in(entry.path());
+    std::string first_line;
+    std::getline(in, first_line);
+    const std::string prefix = "# expect: ";
+    ASSERT_EQ(first_line.rfind(prefix, 0), 0u) << entry.path() << " lacks its '# expect:' line";
+    const std::string expected = first_line.substr(prefix.size());
+    const std::string file = entry.path().string();
+    try {
+      load_scene(file);
+      ADD_FAILURE() << file << " was accepted";
+    } catch (const Error& error) {
+      const std::string message = error.what();
+      EXPECT_EQ(message.rfind(file + ":", 0), 0u) << "the message must start with the file: " << message;
+      EXPECT_NE(message.find(expected), std::string::npos) << file << ": expected \"" << expected << "\" in\n  " << message;
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 30);
+}
+
+}  // namespace
+}  // namespace romp::scene

@@ -1,0 +1,68 @@
+// Sweep members: grids in a fixed order, seeded random and Latin-hypercube samples, and the split.
+#include "host/scene/sweep.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+namespace romp::scene {
+namespace {
+
+SweepSpec two_axis_sweep(SweepMethod method) {
+  SweepSpec sweep;
+  sweep.method = method;
+  sweep.samples = 20;
+  sweep.seed = 7;
+  sweep.test_fraction = 0.25;
+  sweep.axes = {{"gravity", {5.0, 10.0, 15.0}, 5.0, 15.0}, {"angle", {0.0, 90.0}, 0.0, 90.0}};
+  return sweep;
+}
+
+TEST(Sweep, GridIsTheFullFactorialWithTheLastAxisFastest) {
+  const std::vector<SweepMember> members = sweep_members(two_axis_sweep(SweepMethod::Grid));
+  ASSERT_EQ(members.size(), 6u);
+  EXPECT_EQ(members[0].values.at("gravity"), 5.0);
+  EXPECT_EQ(members[0].values.at("angle"), 0.0);
+  EXPECT_EQ(members[1].values.at("angle"), 90.0);
+  EXPECT_EQ(members[5].values.at("gravity"), 15.0);
+  std::set<std::pair<double, double>> distinct;
+  for (const SweepMember& m : members) distinct.insert({m.values.at("gravity"), m.values.at("angle")});
+  EXPECT_EQ(distinct.size(), 6u);
+}
+
+TEST(Sweep, LatinHypercubePutsOneSampleInEveryStratumOfEveryAxis) {
+  const SweepSpec sweep = two_axis_sweep(SweepMethod::LatinHypercube);
+  const std::vector<SweepMember> members = sweep_members(sweep);
+  ASSERT_EQ(members.size(), 20u);
+  for (const SweepAxis& axis : sweep.axes) {
+    std::set<int> strata;
+    for (const SweepMember& m : members) {
+      const double u = (m.values.at(axis.parameter) - axis.low) / (axis.high - axis.low);
+      ASSERT_GE(u, 0.0);
+      ASSERT_LT(u, 1.0);
+      strata.insert(int(u * 20.0));
+    }
+    EXPECT_EQ(strata.size(), 20u) << axis.parameter;
+  }
+}
+
+TEST(Sweep, SeedFixesMembersAndSplit) {
+  for (SweepMethod method : {SweepMethod::Random, SweepMethod::LatinHypercube}) {
+    SweepSpec sweep = two_axis_sweep(method);
+    const std::vector<SweepMember> a = sweep_members(sweep), b = sweep_members(sweep);
+    sweep.seed = 8;
+    const std::vector<SweepMember> c = sweep_members(sweep);
+    int tests = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].values, b[i].values);
+      EXPECT_EQ(a[i].test, b[i].test);
+      tests += a[i].test;
+    }
+    EXPECT_EQ(tests, 5);  // round(0.25 × 20)
+    EXPECT_NE(a[0].values, c[0].values);
+  }
+}
+
+}  // namespace
+}  // namespace romp::scene
