@@ -1,17 +1,23 @@
-// The romp command line: one entry point for every mode, with distinct exit codes for bad
-// arguments (2) and failed runs (1).
+// The romp command line: one entry point for every mode. Exit codes (README "Exit codes"):
+// 0 done, 1 run failed, 2 bad arguments, 3 invalid scene or input file, 4 simulation went
+// non-finite, 5 sweep members failed, 130 interrupted (resumable with --resume).
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <exception>
 #include <string>
+#include <vector>
 
 #include "host/backend_selection.h"
 #include "host/build_info.h"
-#include "host/demo.h"
-#include "host/material_library.h"
 #include "host/info_report.h"
+#include "host/run/scene_runner.h"
+#include "host/run/stage_table.h"
+#include "host/run/sweep_runner.h"
+#include "host/scene/scene_parser.h"
+#include "host/scene/scene_setup.h"
+#include "host/scene/toml_reader.h"
 #include "kernels/core/device.h"
 #include "kernels/core/error.h"
 #include "nn/torch_info.h"
@@ -20,24 +26,70 @@ namespace {
 
 constexpr int kExitRunFailed = 1;
 constexpr int kExitBadArguments = 2;
+constexpr int kExitInvalidInput = 3;
+constexpr int kExitNonFinite = 4;
+constexpr int kExitSweepMembersFailed = 5;
+constexpr int kExitInterrupted = 130;
 
-romp::NclawMaterial parse_material(const std::string& name) {
-  if (name == "jelly") return romp::NclawMaterial::Jelly;
-  if (name == "sand") return romp::NclawMaterial::Sand;
-  if (name == "plasticine") return romp::NclawMaterial::Plasticine;
-  if (name == "water") return romp::NclawMaterial::Water;
-  throw romp::Error("--material '" + name + "': allowed values are jelly, sand, plasticine, water");
+// "--set name=value" pairs as parameter overrides.
+romp::scene::ParameterValues parse_overrides(const std::vector<std::string>& sets) {
+  romp::scene::ParameterValues values;
+  for (const std::string& set : sets) {
+    const std::size_t equals = set.find('=');
+    if (equals == std::string::npos || equals == 0)
+      throw CLI::ValidationError("--set", "expected name=value, got '" + set + "'");
+    values[set.substr(0, equals)] = romp::scene::evaluate_expression(set.substr(equals + 1), {});
+  }
+  return values;
 }
 
-int run_demo(romp::DeviceChoice choice, int threads, const std::string& material, int steps) {
-  const romp::Exec exec = romp::select_backend(choice, threads);
-  const romp::DemoResult r = romp::run_cube_demo(exec, parse_material(material), steps);
-  fmt::print("{} cube: {} particles, {} substeps ({:.3f} s simulated) in {:.3f} s on {}: {:.3e} particle-substeps/s\n",
-             material, r.particles, r.substeps, r.simulated_seconds, r.wall_seconds, romp::to_string(exec.backend),
-             double(r.particles) * double(r.substeps) / r.wall_seconds);
-  fmt::print("final centre of mass ({:.4f}, {:.4f}, {:.4f}) m, kinetic energy {:.4g} J\n\n{}", r.center_of_mass[0],
-             r.center_of_mass[1], r.center_of_mass[2], r.kinetic_energy, romp::stage_table(r.stage_seconds));
+int check_scene(const std::string& path, const romp::scene::ParameterValues& overrides) {
+  const romp::scene::Scene scene = romp::scene::load_scene(path, overrides);
+  const romp::scene::SceneSetup setup = romp::scene::build_scene(scene);
+  fmt::print("{}", scene.resolved_text);
+  std::string counts;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i)
+    counts += fmt::format("{}{} {}", i ? ", " : "", scene.objects[i].name, setup.particles_per_object[i]);
+  spdlog::info("{}: valid; {} particles ({}), {} frames to t = {} s", path, setup.particles.count(), counts,
+               scene.frame_count, scene.end_time);
+  if (scene.sweep)
+    spdlog::info("{}: sweep of {} members", path, romp::scene::sweep_members(*scene.sweep).size());
   return 0;
+}
+
+int run_scene(romp::DeviceChoice choice, int threads, const std::string& path,
+              const romp::scene::ParameterValues& overrides, const romp::run::RunOptions& options,
+              bool deterministic) {
+  if (deterministic) {
+    // The CPU path with one thread sums every grid node's contributions in one fixed order.
+    if (choice == romp::DeviceChoice::Cuda)
+      throw CLI::ValidationError("--deterministic", "bitwise reproducibility is provided on the CPU only");
+    choice = romp::DeviceChoice::Cpu;
+    threads = 1;
+  }
+  const romp::scene::Scene scene = romp::scene::load_scene(path, overrides);
+  const romp::Exec exec = romp::select_backend(choice, threads);
+  const romp::run::RunResult r = romp::run::run_scene(exec, scene, options);
+  if (r.interrupted) {
+    spdlog::warn("interrupted after frame {}; {} holds the frames so far; continue with --resume", r.last_frame,
+                 r.output_in_progress);
+    return kExitInterrupted;
+  }
+  fmt::print("{}: {} particles, {} frames, {} substeps ({:.4g} s simulated) in {:.3f} s on {}\n", scene.name,
+             r.particles, r.frames_written, r.substeps, r.simulated_seconds, r.wall_seconds,
+             romp::to_string(exec.backend));
+  fmt::print("output: {}\n\n{}", r.output, romp::run::stage_table(r.stage_seconds));
+  return 0;
+}
+
+int sweep(const std::string& path, const romp::run::SweepOptions& options) {
+  const romp::run::SweepSummary s = romp::run::run_sweep(path, options);
+  fmt::print("sweep {}: {} members; rank {}/{} was assigned {}: {} already finished, {} run now, {} claimed by "
+             "another process, {} failed\n",
+             path, s.members, s.rank, s.ranks, s.assigned, s.finished_before, s.ran, s.busy_elsewhere,
+             s.failed.size());
+  for (const std::string& failure : s.failed) fmt::print("  {}\n", failure);
+  return s.failed.empty() ? 0 : kExitSweepMembersFailed;
 }
 
 }  // namespace
@@ -56,12 +108,31 @@ int main(int argc, char** argv) {
 
   app.add_subcommand("info", "Version, commit, build configuration and the devices found");
 
-  CLI::App* demo = app.add_subcommand("demo", "The neural-constitutive-law paper's thrown cube, full-order MPM");
-  std::string material = "jelly";
-  int steps = 1000;
-  demo->add_option("--material", material, "jelly, sand, plasticine or water")
-      ->check(CLI::IsMember({"jelly", "sand", "plasticine", "water"}));
-  demo->add_option("--steps", steps, "Substeps of 5e-4 s")->check(CLI::PositiveNumber);
+  std::string scene_path = ROMP_DEFAULT_SCENE;
+  std::vector<std::string> sets;
+  CLI::App* check = app.add_subcommand("check", "Validate a scene and print it resolved, every default filled in");
+  check->add_option("scene", scene_path, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+  check->add_option("--set", sets, "Override a declared parameter: name=value (repeatable)");
+
+  CLI::App* run = app.add_subcommand("run", "Run a scene and write its snapshots");
+  romp::run::RunOptions run_options;
+  bool deterministic = false;
+  run->add_option("scene", scene_path, "Scene file (TOML); default: the quick start's scene")
+      ->check(CLI::ExistingFile);
+  run->add_option("-o,--output", run_options.output, "Snapshot file (.h5), instead of the scene's [output] file");
+  run->add_flag("--resume", run_options.resume, "Continue an interrupted run from its last complete frame");
+  run->add_flag("--deterministic", deterministic, "Bitwise reproducible (CPU, one thread)");
+  run->add_flag("--ply", run_options.ply, "Also write a PLY point cloud per frame");
+  run->add_flag("!--no-progress", run_options.progress, "No progress bar");
+  run->add_option("--set", sets, "Override a declared parameter: name=value (repeatable)");
+
+  CLI::App* sweep_command = app.add_subcommand("sweep", "Run every member of a scene's [sweep]");
+  romp::run::SweepOptions sweep_options;
+  sweep_command->add_option("scene", scene_path, "Scene file with a [sweep] table")->required()->check(
+      CLI::ExistingFile);
+  sweep_command->add_option("-o,--output", sweep_options.output_dir, "Output folder")->required();
+  sweep_command->add_option("-j,--jobs", sweep_options.jobs, "Members run at once on this machine")
+      ->check(CLI::PositiveNumber);
 
   try {
     app.parse(argc, argv);
@@ -77,7 +148,21 @@ int main(int argc, char** argv) {
       fmt::print("{}", romp::info_report(romp::build_info(), romp::probe_cuda(), romp::nn::torch_info()));
       return 0;
     }
-    return run_demo(choice, threads, material, steps);
+    if (app.got_subcommand("sweep")) {
+      sweep_options.run_arguments = {"--device", device, "--threads", std::to_string(threads), "--log-level", log_level};
+      return sweep(scene_path, sweep_options);
+    }
+    const romp::scene::ParameterValues overrides = parse_overrides(sets);
+    if (app.got_subcommand("check")) return check_scene(scene_path, overrides);
+    return run_scene(choice, threads, scene_path, overrides, run_options, deterministic);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error) == 0 ? 0 : kExitBadArguments;
+  } catch (const romp::scene::SceneError& error) {
+    spdlog::error("{}", error.what());
+    return kExitInvalidInput;
+  } catch (const romp::NonFiniteError& error) {
+    spdlog::error("{}", error.what());
+    return kExitNonFinite;
   } catch (const std::exception& error) {
     spdlog::error("{}", error.what());
     return kExitRunFailed;

@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build git pkg-config python3
   libeigen3-dev libgtest-dev libhdf5-dev libcli11-dev libtomlplusplus-dev
-  libfmt-dev libspdlog-dev nlohmann-json3-dev libtorch-dev
+  libfmt-dev libspdlog-dev nlohmann-json3-dev libtorch-dev openmpi-bin
 )
 
 missing=()

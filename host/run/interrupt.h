@@ -1,0 +1,11 @@
+// Ctrl-C during a run: the first SIGINT or SIGTERM asks the run to stop after the frame it is on
+// (leaving a resumable partial output); a second one ends the process at once.
+#pragma once
+
+namespace romp::run {
+
+// Installs the handlers (idempotent).
+void install_interrupt_handler();
+bool interrupt_requested();
+
+}  // namespace romp::run

@@ -1,0 +1,173 @@
+// The frame loop of a full-order run: setup, resume, substeps to each frame time, capture, and the
+// hand-off of each frame to the I/O worker.
+#include "host/run/scene_runner.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+
+#include "host/build_info.h"
+#include "host/full_order_sim.h"
+#include "host/io/checkpoint.h"
+#include "host/io/io_worker.h"
+#include "host/io/snapshot_layout.h"
+#include "host/io/snapshot_writer.h"
+#include "host/run/interrupt.h"
+#include "host/run/progress.h"
+#include "host/scene/scene_setup.h"
+#include "host/scene/toml_reader.h"
+
+namespace romp::run {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Frames waiting for the I/O worker: enough to hide a slow write behind the next frame's substeps,
+// few enough that a fast simulation cannot pile up frames in memory.
+constexpr std::size_t kQueuedFrames = 2;
+
+io::SnapshotHeader snapshot_header(const scene::Scene& scene, const mpm::ParticleInit& particles) {
+  io::SnapshotHeader header;
+  header.X = particles.x;
+  header.mass = particles.mass;
+  header.volume0 = particles.volume0;
+  header.material = particles.material;
+  header.scene = scene.resolved_text;
+  for (const auto& [name, value] : scene.parameters) {
+    header.parameter_names.push_back(name);
+    header.parameter_values.push_back(value);
+  }
+  const BuildInfo build = build_info();
+  header.romp_version = build.version;
+  header.commit = build.commit;
+  return header;
+}
+
+// The whole particle state in the initial order (the checkpoint needs every field; the snapshot
+// keeps the selected ones).
+io::FrameData capture(FullOrderSim& sim) {
+  io::FrameData frame;
+  frame.time = sim.time();
+  frame.step = sim.steps();
+  frame.x = sim.particles().positions_in_initial_order(sim.exec());
+  frame.v = sim.particles().velocities_in_initial_order(sim.exec());
+  frame.F = sim.particles().deformation_gradients_in_initial_order(sim.exec());
+  frame.C = sim.particles().affine_velocities_in_initial_order(sim.exec());
+  return frame;
+}
+
+// Frame k's time; the last frame lands exactly on the scene's end time.
+double frame_time(const scene::Scene& scene, std::int64_t frame) {
+  return frame == scene.frame_count ? scene.end_time : double(frame) / scene.frame_rate;
+}
+
+}  // namespace
+
+RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  RunResult result;
+  const std::string output = options.output.empty() ? scene.output.file : options.output;
+  const io::FieldMask fields = io::parse_fields(scene.output.fields);
+  const bool ply = scene.output.ply || options.ply;
+  const std::string checkpoint_file = io::checkpoint_path(output);
+
+  scene::SceneSetup setup = scene::build_scene(scene);
+  const io::SnapshotHeader header = snapshot_header(scene, setup.particles);
+  result.particles = setup.particles.count();
+
+  const bool unfinished = fs::exists(io::partial_path(output)) && fs::exists(checkpoint_file);
+  if (options.resume && !unfinished && fs::exists(output)) {
+    spdlog::info("{} is complete; nothing to resume", output);
+    result.output = output;
+    result.last_frame = scene.frame_count;
+    return result;
+  }
+  std::unique_ptr<io::SnapshotWriter> writer;
+  std::int64_t first_frame = 0;
+  double restored_time = 0.0;
+  std::int64_t restored_steps = 0;
+  if (options.resume && unfinished) {
+    const io::Checkpoint checkpoint = io::read_checkpoint(checkpoint_file);
+    if (checkpoint.tag != scene.resolved_text)
+      throw scene::SceneError(fmt::format("{}: the scene differs from the one that wrote {}; run it without --resume",
+                                          scene.source_file, checkpoint_file));
+    mpm::ParticleInit& init = setup.particles;
+    init.x = checkpoint.state.x;
+    init.v = checkpoint.state.v;
+    init.F = checkpoint.state.F;
+    init.C = checkpoint.state.C;
+    first_frame = checkpoint.frame;
+    restored_time = checkpoint.state.time;
+    restored_steps = checkpoint.state.step;
+    writer = std::make_unique<io::SnapshotWriter>(
+        io::SnapshotWriter::resume(output, header, fields, first_frame + 1, ply));
+    spdlog::info("resuming {} after frame {} (t = {} s)", output, first_frame, restored_time);
+  } else {
+    if (options.resume) spdlog::info("no unfinished run of {} to resume; starting at frame 0", output);
+    writer = std::make_unique<io::SnapshotWriter>(output, header, fields, ply);
+  }
+
+  FullOrderSim sim(exec, setup.config, setup.particles);
+  sim.restore_clock(restored_time, restored_steps);
+  result.first_frame = first_frame;
+
+  // The I/O worker owns the writer's calls from here on: frames (with their PLY files) and
+  // checkpoints are written while the next frame is simulated.
+  io::IoWorker worker(kQueuedFrames);
+  double output_seconds = 0.0;
+  auto hand_off = [&](std::int64_t frame) {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto state = std::make_shared<const io::FrameData>(capture(sim));
+    worker.submit([&writer, state, frame, &checkpoint_file, &scene] {
+      writer->append_frame(*state);
+      io::write_checkpoint(checkpoint_file, io::Checkpoint{*state, frame, scene.resolved_text});
+    });
+    output_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+
+  install_interrupt_handler();
+  if (first_frame == 0) hand_off(0);
+  result.last_frame = first_frame;
+  ProgressBar progress(first_frame, scene.frame_count, scene.end_time);
+  const std::int64_t steps_before = sim.steps();
+  for (std::int64_t frame = first_frame + 1; frame <= scene.frame_count; ++frame) {
+    try {
+      sim.advance_to(frame_time(scene, frame));
+    } catch (const NonFiniteError& error) {
+      if (options.progress) progress.finish();
+      worker.drain();
+      throw NonFiniteError(fmt::format("{}; frames 0..{} are in {}", error.what(), frame - 1,
+                                       io::partial_path(output)),
+                           error.step(), error.stage(), error.index());
+    }
+    hand_off(frame);
+    ++result.frames_written;
+    result.last_frame = frame;
+    if (options.progress) progress.update(frame, sim.time());
+    const bool last = frame == scene.frame_count;
+    if (!last && (interrupt_requested() || frame == options.stop_at_frame)) {
+      result.interrupted = true;
+      break;
+    }
+  }
+  if (options.progress) progress.finish();
+  worker.drain();
+  if (result.interrupted) {
+    result.output_in_progress = io::partial_path(output);
+  } else {
+    writer->finish();
+    fs::remove(checkpoint_file);
+    result.output = output;
+  }
+  result.substeps = sim.steps() - steps_before;
+  result.simulated_seconds = sim.time() - restored_time;
+  result.stage_seconds = sim.stage_seconds();
+  result.stage_seconds.emplace_back("output", output_seconds);
+  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace romp::run
