@@ -103,7 +103,7 @@ TEST(MeshReaders, ErrorsNameTheFileAndLine) {
       mentions(test::error_message([&] { load_mesh(bad_number); }), bad_number + ":3: bad vertex coordinate '0x'"));
   const std::string no_faces = folder.write("no_faces.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
   EXPECT_TRUE(mentions(test::error_message([&] { load_mesh(no_faces); }), no_faces + ": no faces"));
-  const std::string missing = folder.path("missing.obj");
+  const std::string missing = folder.file("missing.obj");
   EXPECT_TRUE(mentions(test::error_message([&] { load_mesh(missing); }), missing + ": cannot open"));
   const std::string unknown = folder.write("mesh.stl", "solid nothing\n");
   EXPECT_TRUE(mentions(test::error_message([&] { load_mesh(unknown); }), unknown + ": unknown mesh format '.stl'"));

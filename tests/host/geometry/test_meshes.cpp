@@ -124,26 +124,4 @@ std::string to_binary_ply(const TriangleMesh& mesh) {
   return bytes;
 }
 
-ScratchFolder::ScratchFolder() {
-  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-  // Parameterised tests have '/' in their names.
-  std::string name =
-      fmt::format("romp_geometry_{}_{}_{}", test->test_suite_name(), test->name(), std::random_device()());
-  for (char& c : name)
-    if (c == '/') c = '_';
-  folder_ = std::filesystem::temp_directory_path() / name;
-  std::filesystem::create_directories(folder_);
-}
-
-ScratchFolder::~ScratchFolder() {
-  std::error_code ignored;
-  std::filesystem::remove_all(folder_, ignored);
-}
-
-std::string ScratchFolder::write(const std::string& name, const std::string& contents) const {
-  const std::filesystem::path file = folder_ / name;
-  std::ofstream(file, std::ios::binary) << contents;
-  return file.string();
-}
-
 }  // namespace romp::geometry::test

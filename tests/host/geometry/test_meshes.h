@@ -5,6 +5,7 @@
 #include <string>
 
 #include "host/geometry/triangle_mesh.h"
+#include "tests/support/scratch_folder.h"
 
 namespace romp::geometry::test {
 
@@ -20,31 +21,7 @@ std::string to_ascii_ply(const TriangleMesh& mesh);
 // Coordinates as float64 (so the mesh reads back exactly), indices as `list uchar int vertex_indices`.
 std::string to_binary_ply(const TriangleMesh& mesh);
 
-// A fresh folder under the system's temporary directory, removed with everything in it on destruction.
-class ScratchFolder {
- public:
-  ScratchFolder();
-  ~ScratchFolder();
-  ScratchFolder(const ScratchFolder&) = delete;
-  ScratchFolder& operator=(const ScratchFolder&) = delete;
-
-  // Writes `contents` to `name` in the folder and returns its path.
-  std::string write(const std::string& name, const std::string& contents) const;
-  std::string path(const std::string& name) const { return (folder_ / name).string(); }
-
- private:
-  std::filesystem::path folder_;
-};
-
-// The message of the romp::Error that `action` throws, or "" when it throws none.
-template <class Action>
-std::string error_message(Action&& action) {
-  try {
-    action();
-  } catch (const std::exception& error) {
-    return error.what();
-  }
-  return "";
-}
+using romp::test::ScratchFolder;
+using romp::test::error_message;
 
 }  // namespace romp::geometry::test

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "host/io/snapshot_layout.h"
+#include "tests/support/scratch_folder.h"
 #include "kernels/core/error.h"
 
 namespace romp::io::testing {
@@ -23,36 +24,13 @@ namespace romp::io::testing {
 // A folder of its own for each test, removed afterwards.
 class IoTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    folder_ = std::filesystem::temp_directory_path() /
-              ("romp_io_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" + info->name());
-    std::filesystem::remove_all(folder_);
-    std::filesystem::create_directories(folder_);
-  }
-  void TearDown() override { std::filesystem::remove_all(folder_); }
+  std::string file(const std::string& name) const { return folder_.file(name); }
+  std::vector<std::string> folder_contents() const { return folder_.contents(); }
 
-  std::string file(const std::string& name) const { return (folder_ / name).string(); }
-  // Names in the test's folder (not recursive), sorted.
-  std::vector<std::string> folder_contents() const {
-    std::vector<std::string> names;
-    for (const auto& entry : std::filesystem::directory_iterator(folder_)) names.push_back(entry.path().filename());
-    std::sort(names.begin(), names.end());
-    return names;
-  }
-
-  std::filesystem::path folder_;
+  romp::test::ScratchFolder folder_;
 };
 
-// The message of the romp::Error `action` throws, or "(no error)".
-inline std::string error_message(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const Error& error) {
-    return error.what();
-  }
-  return "(no error)";
-}
+using romp::test::error_message;
 
 inline std::vector<float> random_floats(std::size_t count, std::mt19937& random) {
   std::normal_distribution<float> normal(0.0f, 10.0f);

@@ -97,8 +97,8 @@ TEST_F(Ply, SnapshotWriterWritesOneFilePerFrame) {
   std::mt19937 random(42);
   const std::string path = file("run.h5");
   // A stale frame of an earlier, longer run is removed when a new run starts.
-  std::filesystem::create_directories(folder_ / "run_ply");
-  std::ofstream(folder_ / "run_ply" / "frame_000007.ply") << "stale";
+  std::filesystem::create_directories(folder_.path() / "run_ply");
+  std::ofstream(folder_.path() / "run_ply" / "frame_000007.ply") << "stale";
   // No velocities selected: the PLY files carry none either.
   SnapshotWriter writer(path, random_header(12, random), kFieldX | kFieldF, true);
   std::vector<FrameData> frames;
@@ -108,9 +108,9 @@ TEST_F(Ply, SnapshotWriterWritesOneFilePerFrame) {
   }
   writer.finish();
 
-  EXPECT_EQ(ply_frame_path(path, 2), (folder_ / "run_ply" / "frame_000002.ply").string());
+  EXPECT_EQ(ply_frame_path(path, 2), (folder_.path() / "run_ply" / "frame_000002.ply").string());
   std::vector<std::string> names;
-  for (const auto& entry : std::filesystem::directory_iterator(folder_ / "run_ply")) {
+  for (const auto& entry : std::filesystem::directory_iterator(folder_.path() / "run_ply")) {
     names.push_back(entry.path().filename());
   }
   std::sort(names.begin(), names.end());

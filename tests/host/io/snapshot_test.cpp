@@ -147,7 +147,7 @@ TEST_F(Snapshot, TheFinalFileAppearsOnlyWhenFinished) {
   EXPECT_TRUE(writer.finished());
   EXPECT_THROW(writer.append_frame(random_frame(10, 0.1, 1, random)), Error);
   std::vector<std::string> names;
-  for (const auto& entry : std::filesystem::directory_iterator(folder_ / "out")) {
+  for (const auto& entry : std::filesystem::directory_iterator(folder_.path() / "out")) {
     names.push_back(entry.path().filename());
   }
   std::sort(names.begin(), names.end());

@@ -57,7 +57,7 @@ TEST_F(Xdmf, SidecarReferencesDatasetsThatExist) {
   const std::string path = file("run.h5");
   SnapshotWriter writer(path, random_header(30, random), kAllFields);
   const std::filesystem::path sidecar = xdmf_path(path);
-  EXPECT_EQ(sidecar, folder_ / "run.xdmf");
+  EXPECT_EQ(sidecar, folder_.path() / "run.xdmf");
   // Per frame: topology, geometry, v, F, C, and the five per-particle constants.
   expect_references_resolve(sidecar, "run.h5.partial", 0);
   for (int k = 0; k < 3; ++k) writer.append_frame(random_frame(30, 0.5 * k, k, random));

@@ -3,7 +3,6 @@
 #include "host/run/scene_runner.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -12,6 +11,7 @@
 #include "host/io/snapshot_layout.h"
 #include "host/io/snapshot_reader.h"
 #include "host/scene/scene_parser.h"
+#include "tests/support/scratch_folder.h"
 
 namespace romp::run {
 namespace {
@@ -42,21 +42,13 @@ sampling = { per_cell = 1 }
 
 class SceneRunner : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("romp_runner_test_" + std::to_string(getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  RunOptions options(const std::string& name) {
+  RunOptions options(const std::string& name) const {
     RunOptions o;
-    o.output = (dir_ / name).string();
+    o.output = folder_.file(name);
     o.progress = false;
     return o;
   }
-  fs::path dir_;
+  test::ScratchFolder folder_;
 };
 
 TEST_F(SceneRunner, WritesEveryFrameAndLeavesOnlyTheFinishedFiles) {

@@ -4,13 +4,13 @@
 
 #include <gtest/gtest.h>
 #include <stdlib.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "host/io/snapshot_reader.h"
+#include "tests/support/scratch_folder.h"
 
 namespace romp::run {
 namespace {
@@ -45,28 +45,20 @@ count = 3
 
 class SweepRunner : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("romp_sweep_test_" + std::to_string(getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    scene_ = (dir_ / "sweep.toml").string();
-    std::ofstream(scene_) << kSweepScene;
-  }
+  void SetUp() override { scene_ = folder_.write("sweep.toml", kSweepScene); }
   void TearDown() override {
     unsetenv("OMPI_COMM_WORLD_RANK");
     unsetenv("OMPI_COMM_WORLD_SIZE");
-    fs::remove_all(dir_);
   }
   SweepOptions options(const std::string& out) const {
     SweepOptions o;
-    o.output_dir = (dir_ / out).string();
+    o.output_dir = folder_.file(out);
     o.jobs = 2;
     o.run_arguments = {"--device", "cpu", "--threads", "1", "--log-level", "warn"};
     o.executable = ROMP_EXECUTABLE;
     return o;
   }
-  fs::path dir_;
+  test::ScratchFolder folder_;
   std::string scene_;
 };
 
