@@ -6,8 +6,8 @@
 #include <string>
 
 #include "bench/suites/suites.h"
-#include "host/box_lattice.h"
 #include "host/full_order_sim.h"
+#include "host/geometry/sampling.h"
 #include "host/material_library.h"
 
 namespace romp::bench {
@@ -33,7 +33,8 @@ FullOrderSim make_sim(const Exec& exec, const StepCase& c, Index particles) {
   const std::int32_t cells = std::int32_t(std::ceil(1.0f / dx));
   config.domain_cells = {cells, cells, cells};
   config.materials = {nclaw_material(c.material)};
-  mpm::ParticleInit init = sample_box_lattice(c.low, c.high, spacing, config.materials[0].density);
+  const geometry::SamplingSpec lattice{geometry::SamplingMethod::Lattice, kParticlesPerCellPerAxis, dx};
+  mpm::ParticleInit init = geometry::sample_box(c.low, c.high, lattice, config.materials[0].density);
   for (Index p = 0; p < init.count(); ++p)
     for (int a = 0; a < 3; ++a) init.v[a * init.count() + p] = c.velocity[a];
   return FullOrderSim(exec, config, init);

@@ -144,4 +144,12 @@ void append_body(mpm::ParticleInit& init, const SampledBody& body, double densit
   init.dirichlet_group.insert(init.dirichlet_group.end(), std::size_t(added), mpm::kNoDirichletGroup);
 }
 
+mpm::ParticleInit sample_box(const Vec3<float>& low, const Vec3<float>& high, const SamplingSpec& spec,
+                             double density) {
+  const Vec3<double> lo(low[0], low[1], low[2]), hi(high[0], high[1], high[2]);
+  mpm::ParticleInit init;
+  append_body(init, sample(Box{(lo + hi) * 0.5, (hi - lo) * 0.5}, spec), density, 0);
+  return init;
+}
+
 }  // namespace romp::geometry

@@ -50,4 +50,9 @@ SampledBody sample(const Shape& shape, const SamplingSpec& spec);
 // material, no Dirichlet group. The position and velocity planes are rebuilt for the new count.
 void append_body(mpm::ParticleInit& init, const SampledBody& body, double density, std::int32_t material);
 
+// The particles of the axis-aligned box [low, high] alone, at rest, material 0: the common body of
+// tests and benchmarks.
+mpm::ParticleInit sample_box(const Vec3<float>& low, const Vec3<float>& high, const SamplingSpec& spec,
+                             double density);
+
 }  // namespace romp::geometry

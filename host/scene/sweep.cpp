@@ -7,33 +7,14 @@
 #include <cmath>
 #include <numeric>
 
+#include "host/geometry/random.h"
 #include "kernels/core/error.h"
 
 namespace romp::scene {
 namespace {
 
-// SplitMix64 (Steele, Lea, Flood 2014): a tiny generator whose stream is the same on every platform
-// and standard library, so a sweep seed names the same members everywhere.
-class SplitMix64 {
- public:
-  explicit SplitMix64(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  // Uniform in [0, 1) with 53 random bits.
-  double uniform() { return double(next() >> 11) * 0x1.0p-53; }
-  // Uniform in [0, n).
-  std::uint64_t below(std::uint64_t n) { return std::uint64_t(uniform() * double(n)); }
-
- private:
-  std::uint64_t state_;
-};
-
 template <class T>
-void shuffle(std::vector<T>& items, SplitMix64& random) {
+void shuffle(std::vector<T>& items, geometry::Random& random) {
   for (std::size_t i = items.size(); i > 1; --i) std::swap(items[i - 1], items[random.below(i)]);
 }
 
@@ -85,7 +66,7 @@ SweepSpec read_sweep(TableReader& table, const ParameterValues& declared) {
 
 std::vector<SweepMember> sweep_members(const SweepSpec& sweep) {
   std::vector<SweepMember> members;
-  SplitMix64 random(sweep.seed);
+  geometry::Random random(sweep.seed);
   const std::size_t dimensions = sweep.axes.size();
   if (sweep.method == SweepMethod::Grid) {
     std::int64_t count = 1;
@@ -129,7 +110,7 @@ std::vector<SweepMember> sweep_members(const SweepSpec& sweep) {
   // Seeded split: a random subset of round(test_fraction × N) members is held out.
   std::vector<std::size_t> order(members.size());
   std::iota(order.begin(), order.end(), 0);
-  SplitMix64 split_random(sweep.seed ^ 0x5EEDu);
+  geometry::Random split_random(sweep.seed ^ 0x5EEDu);
   shuffle(order, split_random);
   const auto tests = std::size_t(std::llround(sweep.test_fraction * double(members.size())));
   for (std::size_t i = 0; i < tests; ++i) members[order[i]].test = true;

@@ -36,7 +36,8 @@ struct SweepMember {
 // Reads [sweep]; every swept name must be one of `declared` (the [parameters] table).
 SweepSpec read_sweep(TableReader& sweep, const ParameterValues& declared);
 
-// The members in a fixed order (grid: last axis fastest), identical on every machine for a seed.
+// The members in a fixed order (grid: last axis fastest), identical on every machine for a seed
+// (geometry::Random draws the same numbers everywhere).
 std::vector<SweepMember> sweep_members(const SweepSpec& sweep);
 
 }  // namespace romp::scene

@@ -4,15 +4,15 @@
 #include <cmath>
 #include <vector>
 
-#include "host/box_lattice.h"
+#include "host/geometry/sampling.h"
 #include "host/full_order_sim.h"
 #include "kernels/math/vec3.h"
 
 namespace romp::test {
 
-// Particles on a lattice filling the box [low, high), `per_cell` per cell per axis, at density rho.
+// Particles of the global lattice of spacing dx / per_cell inside the box [low, high], at density rho.
 inline mpm::ParticleInit lattice_box(const Vec3<float>& low, const Vec3<float>& high, float dx, int per_cell, float rho) {
-  return sample_box_lattice(low, high, dx / float(per_cell), rho);
+  return geometry::sample_box(low, high, geometry::SamplingSpec{geometry::SamplingMethod::Lattice, per_cell, dx}, rho);
 }
 
 inline Vec3<float> plane_vector(const std::vector<float>& planes, Index count, Index p) {
