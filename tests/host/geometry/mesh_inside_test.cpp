@@ -142,7 +142,7 @@ TEST(MeshInside, RotatedIcosphereMatchesItsFacePlanes) {
 TEST(MeshInside, SpotMatchesTheSolidAngleWindingNumber) {
   // A non-convex mesh (a cow: legs, ears, horns). A third of the rays run through a vertex, a third
   // lie on the plane x = vertex x.
-  const TriangleMesh spot = load_mesh(std::string(ROMP_TEST_DATA_DIR) + "/meshes/spot.obj");
+  const TriangleMesh spot = load_mesh(std::string(ROMP_SCENE_ASSETS_DIR) + "/spot.obj");
   const MeshSolid solid(spot);
   const Bounds bounds = solid.bounds();
   std::mt19937_64 random(9);

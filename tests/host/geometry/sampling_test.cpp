@@ -94,7 +94,7 @@ TEST_P(SampledMass, IsWithinOnePercentOfDensityTimesVolumeForEveryPrimitive) {
 }
 
 TEST_P(SampledMass, IsWithinOnePercentOfTheDivergenceVolumeForSpot) {
-  const Shape spot = MeshSolid(load_mesh(std::string(ROMP_TEST_DATA_DIR) + "/meshes/spot.obj"));
+  const Shape spot = MeshSolid(load_mesh(std::string(ROMP_SCENE_ASSETS_DIR) + "/spot.obj"));
   // h = 0.04: 24 particles across the narrowest side of its bounds (0.94), 11,000 in all.
   const SampledBody body = sample(spot, spec_of(GetParam(), 0.08));
   const double expected = kDensity * spot.analytic_volume();
