@@ -1,0 +1,62 @@
+// The fused evaluator of the ROM's deformation map: g(X, x̂), ∇_X g and ∂g/∂x̂ for a batch of material
+// points in one kernel, straight from the model's weights (ROM paper, Sec. 3-4; model file layout in
+// nn/rom/rom_model_file.h).
+//
+// The map is an MLP on [x̂ (r), X̄ (3)], X̄ = (X − X_min) ⊙ X_scale (X_scale = 1 / (X_max − X_min)):
+// H hidden layers of `width` units with ELU (α = 1), then a linear layer to a standardised displacement
+// out (3), and x = X + u_mean + u_std ⊙ out. H = 0 is the linear baseline (one affine layer).
+//
+// Derivatives. The online stage needs the full Jacobian ∂out/∂[x̂, X̄] (3 × (r + 3)) at every point. A
+// forward-mode pass carries r + 3 tangents through every layer; the reverse mode carries the 3 output
+// rows back instead, after one forward pass that keeps each hidden layer's ELU slope. Both give the
+// same exact Jacobian; reverse mode costs 1 + 3 matrix-vector sweeps per point instead of 1 + r + 3
+// (4 against 10 at the paper's r = 6), so it is what this kernel does, per point, in registers and
+// thread-local memory, with the weights shared by every thread (broadcast reads on the GPU).
+#pragma once
+
+#include "kernels/core/exec.h"
+#include "kernels/core/hd.h"
+#include "kernels/core/span.h"
+#include "kernels/math/mat3_planes.h"
+#include "kernels/math/vec3.h"
+
+namespace romp::rom {
+
+// Sizes the kernel's per-point scratch is built for (the paper's map: H = 5, width 30, r ≤ 16).
+inline constexpr int kMaxMapWidth = 64;
+inline constexpr int kMaxMapHiddenLayers = 8;
+inline constexpr int kMaxMapLatent = 32;
+
+// The weights of g, in one buffer on the evaluating backend: for each layer k = 0 .. H its weight
+// [out_k × in_k] (row-major) and then its bias [out_k], with in_0 = r + 3 (x̂ first, then X̄),
+// out_k = width for k < H and out_H = 3.
+template <class T>
+struct DeformationMapView {
+  int latent = 0;         // r
+  int hidden_layers = 0;  // H
+  int width = 0;          // units per hidden layer (unused when H = 0)
+  Span<const T> parameters;
+  Vec3<T> X_min = Vec3<T>::zero(), X_scale = Vec3<T>::zero();
+  Vec3<T> u_mean = Vec3<T>::zero(), u_std = Vec3<T>::zero();
+};
+
+// The number of scalars in `parameters` for a map of these sizes.
+Index deformation_map_parameter_count(int latent, int hidden_layers, int width);
+
+// Outputs for n points. Any of the three may be left empty (null data) to skip it; the Jacobian is
+// computed only when F or dg_dxhat is asked for.
+template <class T>
+struct DeformationMapOutputs {
+  Vec3Planes<T> x;         // g(X, x̂), m
+  Mat3Planes<T> F;         // ∇_X g
+  Span<T> dg_dxhat;        // ∂g/∂x̂: 3 r planes of n, plane (o r + j) = ∂g_o/∂x̂_j
+};
+
+// Evaluates g at X (n points, planes on exec's backend) for one shared x̂ (`latent` values on exec's
+// backend). Throws romp::Error when the sizes exceed the kernel's limits or the views disagree.
+// Queued on exec like for_each. Instantiated for float and double.
+template <class T>
+void evaluate_deformation_map(const Exec& exec, const DeformationMapView<T>& map, Span<const T> xhat,
+                              Vec3Planes<const T> X, const DeformationMapOutputs<T>& out);
+
+}  // namespace romp::rom
