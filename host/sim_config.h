@@ -1,0 +1,55 @@
+// The configuration of an MPM simulation: grid, time stepping, materials, boundaries and loads, as
+// scene_setup builds it from a scene. FullOrderSim and ReducedSim take the same configuration.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "kernels/mpm/step.h"
+
+namespace romp {
+
+struct MaterialSpec {
+  material::MaterialParams<float> params;
+  float density = 1000.0f;  // kg/m^3, for the wave speed of the CFL condition
+};
+
+// A collider's pose at t = 0 and its constant rigid motion: center(t) = center + v t,
+// rotation(t) = exp(t [ω]×) rotation(0).
+struct ColliderSpec {
+  mpm::ColliderState initial;
+};
+
+// Particles of a Dirichlet group follow v(x) = v_lin + ω × (x − pivot(t)), pivot(t) = pivot + v_lin t.
+struct DirichletSpec {
+  Vec3<float> pivot;
+  Vec3<float> linear_velocity;
+  Vec3<float> angular_velocity;
+};
+
+struct RegionLoadSpec {
+  mpm::RegionLoad load;
+  double start = 0.0;  // s; the load acts for start <= t < end
+  double end = 0.0;
+};
+
+struct FullOrderConfig {
+  float dx = 0.0f;
+  std::array<std::int32_t, 3> domain_cells{0, 0, 0};  // the domain is [0, cells dx] per axis
+  Vec3<float> gravity{0.0f, -9.81f, 0.0f};
+  mpm::Transfer transfer = mpm::Transfer::Apic;
+  float flip_alpha = 0.95f;
+  std::int32_t wall_cells = 3;
+  mpm::ContactType wall_contact = mpm::ContactType::Separate;
+  float wall_friction = 0.0f;
+  float cfl = 0.5f;        // Δt = cfl dx / (c + |v|max)
+  float fixed_dt = 0.0f;   // > 0: use this Δt instead of the CFL condition
+  float max_dt = 1e-3f;    // upper bound on the CFL step (a body at rest has |v| = 0)
+  std::vector<MaterialSpec> materials;
+  std::vector<ColliderSpec> colliders;
+  std::vector<DirichletSpec> dirichlet;
+  std::vector<RegionLoadSpec> loads;
+};
+
+}  // namespace romp

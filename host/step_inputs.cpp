@@ -1,0 +1,93 @@
+// StepInputs: validation of a scene's solver configuration and the per-substep upload of its
+// time-dependent boundary conditions and loads.
+#include "host/step_inputs.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "kernels/math/rotation.h"
+
+namespace romp {
+namespace {
+
+template <class T>
+DeviceBuffer<T> upload(Backend backend, const std::vector<T>& host) {
+  return DeviceBuffer<T>::from_host(backend, host);
+}
+
+}  // namespace
+
+StepInputs::StepInputs(const Exec& exec, const FullOrderConfig& config) : exec_(exec), config_(config) {
+  ROMP_CHECK(config.dx > 0.0f, "grid spacing dx must be > 0");
+  for (int a = 0; a < 3; ++a)
+    ROMP_CHECK(config.domain_cells[a] > 2 * (config.wall_cells + 1),
+               fmt::format("domain_cells[{}] = {} leaves no interior between walls of {} cells", a,
+                           config.domain_cells[a], config.wall_cells));
+  ROMP_CHECK(!config.materials.empty(), "a simulation needs at least one material");
+  ROMP_CHECK(config.cfl > 0.0f && config.cfl <= 1.0f, "cfl must be in (0, 1]");
+  ROMP_CHECK(config.flip_alpha >= 0.0f && config.flip_alpha <= 1.0f, "flip_alpha must be in [0, 1]");
+
+  std::vector<material::MaterialParams<float>> table;
+  for (const MaterialSpec& m : config.materials) {
+    ROMP_CHECK(m.density > 0.0f, "material density must be > 0");
+    table.push_back(m.params);
+    plastic_ = plastic_ || material::is_plastic(m.params.model);
+    max_wave_speed_ = std::max(max_wave_speed_, std::sqrt((m.params.lambda + 2.0f * m.params.mu) / m.density));
+  }
+  materials_ = upload(exec.backend, table);
+  first_failure_ = DeviceBuffer<std::int64_t>(exec.backend, mpm::kStageCount);
+}
+
+mpm::StepParams StepInputs::at(double time, float dt) {
+  const FullOrderConfig& config = config_;
+  std::vector<mpm::ColliderState> colliders;
+  for (const ColliderSpec& spec : config.colliders) {
+    mpm::ColliderState c = spec.initial;
+    c.center = c.center + float(time) * c.linear_velocity;
+    c.rotation = rotation_from_vector(float(time) * c.angular_velocity) * c.rotation;
+    colliders.push_back(c);
+  }
+  std::vector<mpm::RigidMotion> motions;
+  for (const DirichletSpec& spec : config.dirichlet) {
+    motions.push_back(mpm::RigidMotion{spec.pivot + float(time) * spec.linear_velocity, spec.linear_velocity,
+                                       spec.angular_velocity, rotation_from_vector(dt * spec.angular_velocity)});
+  }
+  std::vector<mpm::RegionLoad> loads;
+  for (const RegionLoadSpec& spec : config.loads)
+    if (time >= spec.start && time < spec.end) loads.push_back(spec.load);
+  colliders_ = upload(exec_.backend, colliders);
+  dirichlet_ = upload(exec_.backend, motions);
+  loads_ = upload(exec_.backend, loads);
+  const std::vector<std::int64_t> no_failure(mpm::kStageCount, mpm::kNoFailure);
+  first_failure_.copy_from_host(Span<const std::int64_t>(no_failure.data(), mpm::kStageCount), exec_.stream);
+
+  mpm::StepParams step;
+  step.dt = dt;
+  step.gravity = config.gravity;
+  step.transfer = config.transfer;
+  step.flip_alpha = config.flip_alpha;
+  for (int a = 0; a < 3; ++a) step.domain_cells[a] = config.domain_cells[a];
+  step.wall_cells = config.wall_cells;
+  step.wall_contact = config.wall_contact;
+  step.wall_friction = config.wall_friction;
+  step.materials = materials_.span();
+  step.colliders = colliders_.span();
+  step.dirichlet = dirichlet_.span();
+  step.loads = loads_.span();
+  step.first_failure = first_failure_.span();
+  return step;
+}
+
+void check_particle_tables(const FullOrderConfig& config, const std::vector<std::int32_t>& material,
+                           const std::vector<std::int32_t>& dirichlet_group) {
+  for (const std::int32_t id : material)
+    ROMP_CHECK(id >= 0 && id < std::int32_t(config.materials.size()),
+               fmt::format("particle material id {} outside [0, {})", id, config.materials.size()));
+  for (const std::int32_t group : dirichlet_group)
+    ROMP_CHECK(group == mpm::kNoDirichletGroup || (group >= 0 && group < std::int32_t(config.dirichlet.size())),
+               fmt::format("particle Dirichlet group {} outside [0, {})", group, config.dirichlet.size()));
+}
+
+}  // namespace romp

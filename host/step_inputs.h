@@ -1,0 +1,47 @@
+// StepInputs: what an MPM substep reads besides the particles and the grid (the material table, the
+// colliders, Dirichlet motions and loads at the substep's time, and the failure slots), shared by
+// FullOrderSim and ReducedSim so both see one scene the same way.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "kernels/core/device_buffer.h"
+#include "kernels/core/exec.h"
+#include "host/sim_config.h"
+#include "kernels/mpm/step.h"
+
+namespace romp {
+
+class StepInputs {
+ public:
+  // Checks the configuration (walls, materials, cfl, flip_alpha) and uploads the material table.
+  StepInputs(const Exec& exec, const FullOrderConfig& config);
+
+  // The parameters of a substep [time, time + dt]: colliders moved to `time`, the Dirichlet motions
+  // and the loads active then, and failure slots reset to "no failure".
+  mpm::StepParams at(double time, float dt);
+  // The failure slots after a substep (kStageCount entries, kNoFailure where the stage saw none).
+  std::vector<std::int64_t> failures() const { return first_failure_.to_host(exec_.stream); }
+
+  bool plastic() const { return plastic_; }
+  // The largest dilatational wave speed sqrt((λ + 2μ) / ρ) over the materials (m/s), for the CFL rule.
+  float max_wave_speed() const { return max_wave_speed_; }
+
+ private:
+  Exec exec_;
+  FullOrderConfig config_;
+  bool plastic_ = false;
+  float max_wave_speed_ = 0.0f;
+  DeviceBuffer<material::MaterialParams<float>> materials_;
+  DeviceBuffer<mpm::ColliderState> colliders_;
+  DeviceBuffer<mpm::RigidMotion> dirichlet_;
+  DeviceBuffer<mpm::RegionLoad> loads_;
+  DeviceBuffer<std::int64_t> first_failure_;
+};
+
+// Throws if a particle's material or Dirichlet group is not in `config`.
+void check_particle_tables(const FullOrderConfig& config, const std::vector<std::int32_t>& material,
+                           const std::vector<std::int32_t>& dirichlet_group);
+
+}  // namespace romp
