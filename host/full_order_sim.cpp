@@ -90,20 +90,7 @@ void FullOrderSim::check_finite() {
 }
 
 void FullOrderSim::advance_to(double t) {
-  // Substeps shorter than this fraction of the stable Δt are merged into the previous one.
-  constexpr double kMergeFraction = 1e-3;
-  while (time_ < t) {
-    const double dt = stable_dt();
-    const double remaining = t - time_;
-    if (remaining >= dt * (1.0 + kMergeFraction)) {
-      substep(float(dt));
-      continue;
-    }
-    // The last substep lands on t: the clock takes t itself, not the sum with the float Δt, whose
-    // rounding would leave a sliver of time for one more, needless substep.
-    substep(float(remaining));
-    time_ = t;
-  }
+  advance_clock(time_, t, [this] { return double(stable_dt()); }, [this](float dt) { substep(dt); });
 }
 
 void FullOrderSim::restore_clock(double time, std::int64_t steps) {

@@ -80,6 +80,24 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   return step;
 }
 
+void advance_clock(double& time, double t, const std::function<double()>& stable_dt,
+                   const std::function<void(float)>& substep) {
+  // Substeps shorter than this fraction of the stable Δt are merged into the previous one.
+  constexpr double kMergeFraction = 1e-3;
+  while (time < t) {
+    const double dt = stable_dt();
+    const double remaining = t - time;
+    if (remaining >= dt * (1.0 + kMergeFraction)) {
+      substep(float(dt));
+      continue;
+    }
+    // The last substep lands on t: the clock takes t itself, not the sum with the float Δt, whose
+    // rounding would leave a sliver of time for one more, needless substep.
+    substep(float(remaining));
+    time = t;
+  }
+}
+
 void check_particle_tables(const FullOrderConfig& config, const std::vector<std::int32_t>& material,
                            const std::vector<std::int32_t>& dirichlet_group) {
   for (const std::int32_t id : material)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "kernels/core/device_buffer.h"
@@ -39,6 +40,12 @@ class StepInputs {
   DeviceBuffer<mpm::RegionLoad> loads_;
   DeviceBuffer<std::int64_t> first_failure_;
 };
+
+// Substeps until `time` reaches t: `substep(dt)` advances `time` by dt, `stable_dt()` says how far it
+// may go. The last substep is shortened to land on t, and one shorter than 1e-3 of the stable Δt is
+// merged into the one before.
+void advance_clock(double& time, double t, const std::function<double()>& stable_dt,
+                   const std::function<void(float)>& substep);
 
 // Throws if a particle's material or Dirichlet group is not in `config`.
 void check_particle_tables(const FullOrderConfig& config, const std::vector<std::int32_t>& material,

@@ -6,6 +6,7 @@
 
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
+#include "kernels/core/gather_planes.h"
 #include "kernels/mpm/bspline.h"
 #include "kernels/mpm/sparse_grid.h"
 
@@ -40,28 +41,23 @@ struct BlockKeyOfParticle {
   }
 };
 
-// Moves `components` planes of n elements through a permutation: a gather
-// (destination[c n + i] = source[c n + index[i]]) or its inverse, a scatter
-// (destination[c n + index[i]] = source[c n + i]).
-template <class T, bool kScatter>
-struct PermutePlanes {
+// The inverse of a gather through a permutation: destination[c n + index[i]] = source[c n + i].
+template <class T>
+struct ScatterPlanes {
   Span<const T> source;
   Span<T> destination;
   Span<const std::int32_t> index;
-  Index count;
   int components;
   ROMP_HD void operator()(Index i) const {
-    const Index from = kScatter ? i : index[i];
-    const Index to = kScatter ? index[i] : i;
-    for (int c = 0; c < components; ++c) destination[c * count + to] = source[c * count + from];
+    const Index n = index.size();
+    for (int c = 0; c < components; ++c) destination[c * n + index[i]] = source[c * n + i];
   }
 };
 
 template <class T>
 void permute(const Exec& exec, DeviceBuffer<T>& planes, int components, const DeviceBuffer<std::int32_t>& order) {
   DeviceBuffer<T> sorted(planes.backend(), planes.size());
-  for_each(exec, order.size(),
-           PermutePlanes<T, false>{planes.span(), sorted.span(), order.span(), order.size(), components});
+  for_each(exec, order.size(), GatherPlanes<T>{planes.span(), order.size(), sorted.span(), order.span(), components});
   planes = std::move(sorted);
 }
 
@@ -168,7 +164,7 @@ void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
 std::vector<float> ParticleSet::planes_in_initial_order(const Exec& exec, const DeviceBuffer<float>& planes,
                                                         int components) const {
   DeviceBuffer<float> ordered(backend_, planes.size());
-  for_each(exec, count_, PermutePlanes<float, true>{planes.span(), ordered.span(), id_.span(), count_, components});
+  for_each(exec, count_, ScatterPlanes<float>{planes.span(), ordered.span(), id_.span(), components});
   return ordered.to_host(exec.stream);
 }
 

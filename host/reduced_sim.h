@@ -1,0 +1,127 @@
+// ReducedSim: the online stage of the reduced-order MPM (ROM paper, Alg. 2): only the generalized
+// coordinates x̂ and velocity v̂ evolve; each substep decodes the full-space kinematics the step needs
+// from the deformation map g, runs the MPM update for a few sample material points, and projects
+// their updated velocities (and positions) back onto the manifold.
+//
+// This first version implements Lagrangian quadrature (Alg. 3) with every material point as a
+// quadrature point. Points farther than a stencil from the samples' grid nodes add nothing to those
+// nodes, so this is Alg. 3's result, at Alg. 3's P-dependent cost (the paper finds no speed-up for
+// Lagrangian quadrature either). Eulerian quadrature (Alg. 4) is what makes the step independent of P.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "host/geometry/random.h"
+#include "host/sim_config.h"
+#include "host/step_inputs.h"
+#include "kernels/core/device_buffer.h"
+#include "kernels/core/exec.h"
+#include "kernels/math/vec3.h"
+#include "kernels/mpm/particle_set.h"
+#include "kernels/mpm/sparse_grid.h"
+#include "kernels/rom/deformation_map_eval.h"
+
+namespace romp {
+
+enum class RomProjection {
+  Velocity,          // Alg. 7: v̂ from the trial velocities, x̂ += Δt v̂
+  PositionVelocity,  // Alg. 6: v̂ as Alg. 7, x̂ by Gauss–Newton on the trial positions
+};
+
+struct ReducedOptions {
+  RomProjection projection = RomProjection::Velocity;
+  // Sample material points drawn anew each substep (hyper-reduction); 0 or ≥ the point count: all.
+  Index samples = 0;
+  // Drawn from every Dirichlet group in addition, so prescribed motions reach the projection (the
+  // paper: "at least 5 material points from each kinematic boundary").
+  int boundary_samples = 5;
+  std::uint64_t seed = 0;
+  // Gauss–Newton of the position projection: at most this many iterations, stopping when a step
+  // changes x̂ by less than tolerance × (1 + |x̂|).
+  int gauss_newton_iterations = 10;
+  double gauss_newton_tolerance = 1e-6;
+};
+
+// The map's weights as the fused evaluator reads them (see kernels/rom/deformation_map_eval.h).
+struct DeformationMapWeights {
+  int latent = 0, hidden_layers = 0, width = 0;
+  std::vector<float> parameters;
+  Vec3<float> X_min = Vec3<float>::zero(), X_scale = Vec3<float>::zero();
+  Vec3<float> u_mean = Vec3<float>::zero(), u_std = Vec3<float>::zero();
+};
+
+class ReducedSim {
+ public:
+  // `reference`: the material points in the reference configuration (x, with F = I), with their mass,
+  // volume, material and Dirichlet group, as scene_setup samples them. `xhat` is x̂ at t = 0 (the
+  // encoder's value for the initial state); v̂ at t = 0 is the least-squares fit of reference.v.
+  ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::ParticleInit& reference,
+             DeformationMapWeights map, std::vector<float> xhat, ReducedOptions options);
+
+  float stable_dt() const;
+  void substep(float dt);
+  // Substeps until time() reaches t (the last substep is shortened to land on t).
+  void advance_to(double t);
+
+  // x = g(X; x̂) for every material point, 3 planes in the reference order.
+  std::vector<float> decode_positions();
+
+  const std::vector<float>& xhat() const { return xhat_; }
+  const std::vector<float>& vhat() const { return vhat_; }
+  double time() const { return time_; }
+  std::int64_t steps() const { return steps_; }
+  // Substeps whose Gauss–Newton projection stopped at its iteration limit before converging.
+  std::int64_t unconverged_projections() const { return unconverged_projections_; }
+  std::vector<std::pair<std::string, double>> stage_seconds() const { return stage_seconds_; }
+
+ private:
+  std::vector<std::int32_t> choose_samples();
+  rom::DeformationMapView<float> map_view() const;
+  // Evaluates g at the reference points `X` (n of them) for x̂ on the device.
+  void evaluate_map(Vec3Planes<const float> X, const rom::DeformationMapOutputs<float>& out);
+  // Solves the r × r system of rom::normal_equations; returns (y, squared residual at y = 0).
+  std::pair<std::vector<double>, double> solve_projection(Span<const float> dg_dxhat, Vec3Planes<const float> target,
+                                                          Vec3Planes<const float> reference);
+  std::vector<float> project_positions(const std::vector<float>& guess, Index samples);
+  // Throws NonFiniteError naming the stage and material point when a kernel of this substep saw one.
+  void check_stages() const;
+  // Throws NonFiniteError when x̂ or v̂ is not finite after `stage`.
+  void check_latent(const char* stage) const;
+
+  Exec exec_;
+  FullOrderConfig config_;
+  StepInputs inputs_;
+  mpm::SparseGrid grid_;
+  ReducedOptions options_;
+  DeformationMapWeights map_;
+  DeviceBuffer<float> map_parameters_;
+  int latent_;
+  Index points_;
+
+  // The material points (reference order): X, mass, volume, material, Dirichlet group.
+  DeviceBuffer<float> X_, mass_, volume0_;
+  DeviceBuffer<std::int32_t> material_, dirichlet_group_, id_;
+  std::vector<std::int32_t> free_points_;                  // not in a Dirichlet group
+  std::vector<std::vector<std::int32_t>> group_members_;  // per Dirichlet group
+  // Quadrature-point kinematics (every material point) and the samples' state.
+  DeviceBuffer<float> x_, v_, C_, F_, dg_dxhat_;
+  DeviceBuffer<float> sample_X_, sample_x_, sample_v_, sample_C_, sample_F_, sample_mass_, sample_volume0_;
+  DeviceBuffer<float> sample_dg_dxhat_, model_x_;
+  DeviceBuffer<std::int32_t> sample_index_, sample_material_, sample_group_, sample_id_;
+  DeviceBuffer<float> xhat_device_, vhat_device_;
+  DeviceBuffer<double> system_;
+
+  std::vector<float> xhat_, vhat_, xhat_previous_;
+  bool has_previous_ = false;
+  geometry::Random random_;
+  float max_sample_speed_ = 0.0f;
+  double time_ = 0.0;
+  std::int64_t steps_ = 0;
+  std::int64_t unconverged_projections_ = 0;
+  std::vector<std::pair<std::string, double>> stage_seconds_;
+};
+
+}  // namespace romp

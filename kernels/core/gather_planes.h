@@ -1,0 +1,26 @@
+// GatherPlanes: the rows `index` of component-major planes, as a for_each functor.
+#pragma once
+
+#include <cstdint>
+
+#include "kernels/core/hd.h"
+#include "kernels/core/span.h"
+
+namespace romp {
+
+// destination[c m + i] = source[c n + index[i]] for i < m and each of `components` planes, where n is
+// `source_count` and m = index.size() (the destination's plane stride).
+template <class T>
+struct GatherPlanes {
+  Span<const T> source;
+  Index source_count;
+  Span<T> destination;
+  Span<const std::int32_t> index;
+  int components;
+  ROMP_HD void operator()(Index i) const {
+    const Index m = index.size();
+    for (int c = 0; c < components; ++c) destination[c * m + i] = source[c * source_count + index[i]];
+  }
+};
+
+}  // namespace romp

@@ -1,0 +1,79 @@
+// Latent-to-point velocities and the projection's normal equations (see reduced_dynamics.h).
+#include "kernels/rom/reduced_dynamics.h"
+
+#include <string>
+
+#include "kernels/core/error.h"
+#include "kernels/core/for_each.h"
+
+namespace romp::rom {
+namespace {
+
+struct LatentToPointVelocity {
+  int latent;
+  Span<const float> dg_dxhat;
+  Span<const float> vhat;
+  Vec3Planes<float> v;
+  ROMP_HD void operator()(Index p) const {
+    const Index n = v.count();
+    Vec3<float> velocity = Vec3<float>::zero();
+    for (int o = 0; o < 3; ++o)
+      for (int j = 0; j < latent; ++j) velocity[o] += dg_dxhat[(o * latent + j) * n + p] * vhat[j];
+    v.store(p, velocity);
+  }
+};
+
+// One thread per entry of [A | c | ‖residual‖²]; each loops over the points in order. r² + r + 1
+// threads suffice: the point count of a projection is the sample count, small by design.
+struct NormalEquationEntry {
+  int latent;
+  Span<const float> J;
+  Vec3Planes<const float> target, reference;
+  Span<double> system;
+
+  ROMP_HD double residual(int o, Index p) const {
+    const double t = target.data()[o * target.count() + p];
+    return reference.data() ? t - double(reference.data()[o * reference.count() + p]) : t;
+  }
+
+  ROMP_HD void operator()(Index entry) const {
+    const Index m = target.count();
+    const int r = latent;
+    double sum = 0.0;
+    if (entry < Index(r) * r) {
+      const int a = int(entry / r), b = int(entry % r);
+      for (Index p = 0; p < m; ++p)
+        for (int o = 0; o < 3; ++o) sum += double(J[(o * r + a) * m + p]) * double(J[(o * r + b) * m + p]);
+    } else if (entry < Index(r) * r + r) {
+      const int a = int(entry - Index(r) * r);
+      for (Index p = 0; p < m; ++p)
+        for (int o = 0; o < 3; ++o) sum += double(J[(o * r + a) * m + p]) * residual(o, p);
+    } else {
+      for (Index p = 0; p < m; ++p)
+        for (int o = 0; o < 3; ++o) sum += residual(o, p) * residual(o, p);
+    }
+    system[entry] = sum;
+  }
+};
+
+}  // namespace
+
+void latent_to_point_velocity(const Exec& exec, int latent, Span<const float> dg_dxhat, Span<const float> vhat,
+                              Vec3Planes<float> v) {
+  ROMP_CHECK(latent >= 1 && vhat.size() == latent, "v̂ must hold r = " + std::to_string(latent) + " values");
+  ROMP_CHECK(dg_dxhat.size() == 3 * latent * v.count(), "dg_dxhat must hold 3 r planes of the point count");
+  if (v.count() > 0) for_each(exec, v.count(), LatentToPointVelocity{latent, dg_dxhat, vhat, v});
+}
+
+void normal_equations(const Exec& exec, int latent, Span<const float> dg_dxhat, Vec3Planes<const float> target,
+                      Vec3Planes<const float> reference, Span<double> system) {
+  const Index m = target.count();
+  ROMP_CHECK(latent >= 1, "the latent size r must be >= 1");
+  ROMP_CHECK(dg_dxhat.size() == 3 * latent * m, "dg_dxhat must hold 3 r planes of the point count");
+  ROMP_CHECK(!reference.data() || reference.count() == m, "reference must hold one vector per point");
+  const Index entries = Index(latent) * latent + latent + 1;
+  ROMP_CHECK(system.size() == entries, "the system needs r² + r + 1 values");
+  for_each(exec, entries, NormalEquationEntry{latent, dg_dxhat, target, reference, system});
+}
+
+}  // namespace romp::rom

@@ -1,0 +1,25 @@
+// The reduced-space pieces of the ROM's online step (ROM paper, Alg. 2, 6, 7): full-space velocities
+// from the generalized velocity, and the least-squares normal equations that project full-space
+// velocities or positions back onto the manifold.
+#pragma once
+
+#include "kernels/core/exec.h"
+#include "kernels/core/span.h"
+#include "kernels/math/mat3_planes.h"
+
+namespace romp::rom {
+
+// v_p = (∂g/∂x̂)(X_p) v̂ for n points: dg_dxhat holds 3 r planes of n (plane o r + j = ∂g_o/∂x̂_j, as
+// evaluate_deformation_map writes them), vhat r values on exec's backend.
+void latent_to_point_velocity(const Exec& exec, int latent, Span<const float> dg_dxhat, Span<const float> vhat,
+                              Vec3Planes<float> v);
+
+// The normal equations of min_y Σ_p ‖J_p y − (target_p − reference_p)‖² over m points, J_p = ∂g/∂x̂ at
+// point p (3 r planes of m): `system` receives, in double, A = Σ J_pᵀ J_p (r × r, row-major), then
+// c = Σ J_pᵀ (target_p − reference_p) (r), then the squared residual at y = 0, Σ ‖target_p − reference_p‖²
+// (1): r² + r + 1 values on exec's backend. `reference` may be empty (taken as 0). Each entry sums its
+// points in one fixed order, so the result does not depend on the backend's thread count.
+void normal_equations(const Exec& exec, int latent, Span<const float> dg_dxhat, Vec3Planes<const float> target,
+                      Vec3Planes<const float> reference, Span<double> system);
+
+}  // namespace romp::rom
