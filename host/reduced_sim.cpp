@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "host/full_order_sim.h"
@@ -13,6 +14,7 @@
 #include "kernels/core/for_each.h"
 #include "kernels/core/gather_planes.h"
 #include "kernels/math/cholesky_solve.h"
+#include "kernels/mpm/bspline.h"
 #include "kernels/mpm/step.h"
 #include "kernels/rom/reduced_dynamics.h"
 
@@ -46,7 +48,41 @@ double norm(const std::vector<float>& v) {
   return std::sqrt(sum);
 }
 
+Vec3<float> planes_at(const std::vector<float>& planes, Index n, Index i) {
+  return Vec3<float>(planes[i], planes[n + i], planes[2 * n + i]);
+}
+
+// A key for a grid cell (each coordinate below 2^21).
+std::uint64_t cell_key(const int c[3]) {
+  return (std::uint64_t(c[0]) << 42) | (std::uint64_t(c[1]) << 21) | std::uint64_t(c[2]);
+}
+
 }  // namespace
+
+void ReducedSim::Quadrature::allocate(Backend backend, Index n) {
+  count = n;
+  for (DeviceBuffer<float>* planes : {&x, &X, &v}) *planes = DeviceBuffer<float>(backend, 3 * n);
+  F = DeviceBuffer<float>(backend, 9 * n);
+  C = DeviceBuffer<float>(backend, 9 * n);
+  C.fill_zero();  // quadrature points carry no affine velocity: the transfer is PIC (ROM paper, Alg. 5)
+  mass = DeviceBuffer<float>(backend, n);
+  volume0 = DeviceBuffer<float>(backend, n);
+  for (DeviceBuffer<std::int32_t>* ints : {&material, &group, &id, &status}) *ints = DeviceBuffer<std::int32_t>(backend, n);
+}
+
+mpm::ParticleView ReducedSim::Quadrature::view() {
+  const Index n = count;
+  return mpm::ParticleView{n,
+                           Vec3Planes<float>(x.data(), n),
+                           Vec3Planes<float>(v.data(), n),
+                           Mat3Planes<float>(C.data(), n),
+                           Mat3Planes<float>(F.data(), n),
+                           mass.span(),
+                           volume0.span(),
+                           material.span(),
+                           group.span(),
+                           id.span()};
+}
 
 ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::ParticleInit& reference,
                        DeformationMapWeights map, std::vector<float> xhat, ReducedOptions options)
@@ -71,6 +107,9 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   ROMP_CHECK(options_.samples >= 0 && options_.boundary_samples >= 0, "sample counts must be >= 0");
   ROMP_CHECK(options_.gauss_newton_iterations >= 1 && options_.gauss_newton_tolerance > 0.0,
              "Gauss–Newton needs at least one iteration and a tolerance > 0");
+  ROMP_CHECK(options_.points_per_cell >= 1 && options_.points_per_cell <= 8,
+             fmt::format("Eulerian quadrature points per cell per axis must be in [1, 8], got {}",
+                         options_.points_per_cell));
 
   map_parameters_ = DeviceBuffer<float>::from_host(backend, map_.parameters);
   X_ = DeviceBuffer<float>::from_host(backend, reference.x);
@@ -86,22 +125,28 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
     const std::int32_t group = reference.dirichlet_group[std::size_t(p)];
     (group == mpm::kNoDirichletGroup ? free_points_ : group_members_[std::size_t(group)]).push_back(std::int32_t(p));
   }
-
-  x_ = DeviceBuffer<float>(backend, 3 * n);
-  v_ = DeviceBuffer<float>(backend, 3 * n);
-  F_ = DeviceBuffer<float>(backend, 9 * n);
-  C_ = DeviceBuffer<float>(backend, 9 * n);
-  C_.fill_zero();
-  dg_dxhat_ = DeviceBuffer<float>(backend, 3 * Index(latent_) * n);
   system_ = DeviceBuffer<double>(backend, Index(latent_) * latent_ + latent_ + 1);
   xhat_ = std::move(xhat);
   xhat_device_ = DeviceBuffer<float>::from_host(backend, xhat_);
 
+  if (options_.quadrature == RomQuadrature::Lagrangian) {
+    // Every material point is a quadrature point: its mass, volume and tables never change.
+    quadrature_.allocate(backend, n);
+    quadrature_.mass = mass_.clone();
+    quadrature_.volume0 = volume0_.clone();
+    quadrature_.material = material_.clone();
+    quadrature_.group = dirichlet_group_.clone();
+    quadrature_.id = id_.clone();
+    dg_dxhat_ = DeviceBuffer<float>(backend, 3 * Index(latent_) * n);
+  } else {
+    build_occupancy(reference);
+  }
+
   // v̂ at t = 0: the least-squares fit of the initial velocities over every material point (Eq. 28).
-  evaluate_map(Vec3Planes<const float>(X_.data(), n), {{}, {}, dg_dxhat_.span()});
+  DeviceBuffer<float> dg_all(backend, 3 * Index(latent_) * n);
+  evaluate_map(Vec3Planes<const float>(X_.data(), n), {{}, {}, dg_all.span()});
   const DeviceBuffer<float> v0 = DeviceBuffer<float>::from_host(backend, reference.v);
-  const std::vector<double> fit =
-      solve_projection(dg_dxhat_.span(), Vec3Planes<const float>(v0.data(), n), {}).first;
+  const std::vector<double> fit = solve_projection(dg_all.span(), Vec3Planes<const float>(v0.data(), n), {}).first;
   vhat_.assign(fit.begin(), fit.end());
   for (Index i = 0; i < 3 * n; ++i) max_sample_speed_ = std::max(max_sample_speed_, std::fabs(reference.v[i]));
   max_sample_speed_ *= std::sqrt(3.0f);  // a bound on |v| from its largest component
@@ -109,6 +154,49 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
 
   stage_seconds_ = {{"samples", 0.0},     {"kinematics", 0.0}, {"grid_build", 0.0}, {"p2g", 0.0},
                     {"grid_update", 0.0}, {"g2p", 0.0},        {"projection", 0.0}};
+}
+
+void ReducedSim::build_occupancy(const mpm::ParticleInit& reference) {
+  const Index n = reference.count();
+  // Cells as fine as the finest sampling: h = cbrt(the smallest particle volume).
+  const float h = std::cbrt(*std::min_element(reference.volume0.begin(), reference.volume0.end()));
+  Vec3<float> low = Vec3<float>::constant(INFINITY), high = Vec3<float>::constant(-INFINITY);
+  for (Index p = 0; p < n; ++p)
+    for (int a = 0; a < 3; ++a) {
+      low[a] = std::min(low[a], reference.x[a * n + p]);
+      high[a] = std::max(high[a], reference.x[a * n + p]);
+    }
+  rom::ReferenceOccupancy occupancy;
+  occupancy.inverse_h = 1.0f / h;
+  // The origin on the sampling lattice (points at (i + ½) h), so a lattice point's cube is one cell.
+  for (int a = 0; a < 3; ++a) {
+    occupancy.origin[a] = (std::floor(low[a] / h) - 2.0f) * h;
+    occupancy.cells[a] = int(std::ceil((high[a] - occupancy.origin[a]) / h)) + 3;
+  }
+  const Index cells = Index(occupancy.cells[0]) * occupancy.cells[1] * occupancy.cells[2];
+  ROMP_CHECK(cells < (Index(1) << 31), "the reference configuration's occupancy grid would exceed 2^31 cells");
+  std::vector<std::int32_t> material_plus_one(static_cast<std::size_t>(cells), 0);
+  // Each point owns the cells whose centres lie in its cube of side cbrt(volume) about it.
+  for (Index p = 0; p < n; ++p) {
+    const float half = 0.5f * std::cbrt(reference.volume0[p]);
+    int first[3], last[3];
+    for (int a = 0; a < 3; ++a) {
+      const float X = reference.x[a * n + p];
+      first[a] = std::max(0, int(std::ceil((X - half - occupancy.origin[a]) / h - 0.5f)));
+      last[a] = std::min(occupancy.cells[a] - 1, int(std::ceil((X + half - occupancy.origin[a]) / h - 0.5f)) - 1);
+    }
+    for (int k = first[2]; k <= last[2]; ++k)
+      for (int j = first[1]; j <= last[1]; ++j)
+        for (int i = first[0]; i <= last[0]; ++i)
+          material_plus_one[std::size_t((Index(k) * occupancy.cells[1] + j) * occupancy.cells[0] + i)] =
+              reference.material[p] + 1;
+  }
+  occupancy_cells_ = DeviceBuffer<std::int32_t>::from_host(exec_.backend, material_plus_one);
+  occupancy.material_plus_one = Span<const std::int32_t>(occupancy_cells_.data(), occupancy_cells_.size());
+  occupancy_ = occupancy;
+  std::vector<float> densities;
+  for (const MaterialSpec& m : config_.materials) densities.push_back(m.density);
+  densities_ = DeviceBuffer<float>::from_host(exec_.backend, densities);
 }
 
 rom::DeformationMapView<float> ReducedSim::map_view() const {
@@ -162,9 +250,106 @@ std::vector<std::int32_t> ReducedSim::choose_samples() {
   return samples;
 }
 
+void ReducedSim::resize_samples(Index m) {
+  if (samples_.count == m) return;
+  samples_.allocate(exec_.backend, m);
+  sample_dg_dxhat_ = DeviceBuffer<float>(exec_.backend, 3 * Index(latent_) * m);
+  model_x_ = DeviceBuffer<float>(exec_.backend, 3 * m);
+}
+
 float ReducedSim::stable_dt() const {
   if (config_.fixed_dt > 0.0f) return config_.fixed_dt;
   return std::min(config_.max_dt, config_.cfl * config_.dx / (inputs_.max_wave_speed() + max_sample_speed_));
+}
+
+mpm::ParticleView ReducedSim::lagrangian_quadrature() {
+  const Index n = points_;
+  evaluate_map(Vec3Planes<const float>(X_.data(), n),
+               {Vec3Planes<float>(quadrature_.x.data(), n), Mat3Planes<float>(quadrature_.F.data(), n),
+                dg_dxhat_.span()});
+  rom::latent_to_point_velocity(exec_, latent_, dg_dxhat_.span(), vhat_device_.span(),
+                                Vec3Planes<float>(quadrature_.v.data(), n));
+  return quadrature_.view();
+}
+
+mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
+  // Alg. 4, step 3: the cells whose points reach a sample's grid nodes. A point in cell c has its
+  // stencil's base node at c − 1 or c, so it reaches nodes c − 1 .. c + 2; the nodes of a sample with
+  // base node B are B .. B + 2, reached from cells B − 2 .. B + 3.
+  const std::vector<float> X = samples_.X.to_host(exec_.stream), x = samples_.x.to_host(exec_.stream),
+                           F = samples_.F.to_host(exec_.stream);
+  const int l = options_.points_per_cell;
+  const float dx = config_.dx;
+  std::unordered_map<std::uint64_t, Index> cell_sample;  // each cell once, with the sample that found it
+  std::vector<std::pair<std::uint64_t, Index>> cells;
+  for (Index s = 0; s < m; ++s) {
+    const mpm::QuadraticStencil<float> stencil(planes_at(x, m, s), 1.0f / dx);
+    int c[3];
+    for (c[0] = stencil.base[0] - 2; c[0] <= stencil.base[0] + 3; ++c[0])
+      for (c[1] = stencil.base[1] - 2; c[1] <= stencil.base[1] + 3; ++c[1])
+        for (c[2] = stencil.base[2] - 2; c[2] <= stencil.base[2] + 3; ++c[2]) {
+          bool inside = true;
+          for (int a = 0; a < 3; ++a) inside = inside && c[a] >= 0 && c[a] < config_.domain_cells[a];
+          if (inside && cell_sample.emplace(cell_key(c), s).second) cells.emplace_back(cell_key(c), s);
+        }
+  }
+  // ℓ³ points per cell; each starts its inversion from the linearisation of g at its cell's sample.
+  const Index count = Index(cells.size()) * l * l * l;
+  std::vector<float> points(static_cast<std::size_t>(3 * count)), guesses(static_cast<std::size_t>(3 * count));
+  Index q = 0;
+  for (const auto& [key, s] : cells) {
+    const int c[3] = {int(key >> 42), int((key >> 21) & 0x1fffff), int(key & 0x1fffff)};
+    Mat3<double> F_s;
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) F_s(r, k) = F[std::size_t((3 * r + k) * m + s)];
+    const Vec3<float> x_s = planes_at(x, m, s), X_s = planes_at(X, m, s);
+    const double det = determinant(F_s);
+    for (int i = 0; i < l; ++i)
+      for (int j = 0; j < l; ++j)
+        for (int k = 0; k < l; ++k, ++q) {
+          const int sub[3] = {i, j, k};
+          Vec3<double> offset;
+          for (int a = 0; a < 3; ++a) offset[a] = (c[a] + (sub[a] + 0.5) / l) * dx - x_s[a];
+          // X_s + F_s⁻¹ (x_q − x_s), with F⁻¹ from the rows' cross products (identity if F_s is singular).
+          const Vec3<double> r0 = F_s.row(0), r1 = F_s.row(1), r2 = F_s.row(2);
+          const Vec3<double> step = det > 0.0 ? (offset[0] * cross(r1, r2) + offset[1] * cross(r2, r0) +
+                                                 offset[2] * cross(r0, r1)) *
+                                                    (1.0 / det)
+                                              : offset;
+          for (int a = 0; a < 3; ++a) {
+            points[std::size_t(a * count + q)] = float((c[a] + (sub[a] + 0.5) / l) * dx);
+            guesses[std::size_t(a * count + q)] = float(X_s[a] + step[a]);
+          }
+        }
+  }
+  if (quadrature_.count != count) {
+    quadrature_.allocate(exec_.backend, count);
+    std::vector<std::int32_t> none(static_cast<std::size_t>(count), mpm::kNoDirichletGroup), ids(none.size());
+    std::iota(ids.begin(), ids.end(), 0);
+    quadrature_.group = DeviceBuffer<std::int32_t>::from_host(exec_.backend, none);
+    quadrature_.id = DeviceBuffer<std::int32_t>::from_host(exec_.backend, ids);
+  }
+  quadrature_.x.copy_from_host(Span<const float>(points.data(), Index(points.size())), exec_.stream);
+  const DeviceBuffer<float> guess = DeviceBuffer<float>::from_host(exec_.backend, guesses, exec_.stream);
+  rom::InversionOptions inversion;
+  inversion.iterations = options_.inversion_iterations;
+  inversion.tolerance = options_.inversion_tolerance * dx;
+  rom::eulerian_quadrature(exec_, map_view(), Span<const float>(xhat_device_.data(), latent_), vhat_device_.span(),
+                           occupancy_, densities_.span(), dx * dx * dx / float(l * l * l), inversion,
+                           Vec3Planes<const float>(quadrature_.x.data(), count), Vec3Planes<const float>(guess.data(), count),
+                           {Vec3Planes<float>(quadrature_.X.data(), count), Vec3Planes<float>(quadrature_.v.data(), count),
+                            Mat3Planes<float>(quadrature_.F.data(), count), quadrature_.mass.span(),
+                            quadrature_.volume0.span(), quadrature_.material.span(), quadrature_.status.span()});
+  const std::vector<std::int32_t> status = quadrature_.status.to_host(exec_.stream);
+  const std::vector<float> mass = quadrature_.mass.to_host(exec_.stream);
+  last_quadrature_mass_ = 0.0;
+  for (Index i = 0; i < count; ++i) {
+    quadrature_used_ += status[i] == rom::kQuadratureUsed;
+    quadrature_outside_ += status[i] == rom::kQuadratureOutside;
+    quadrature_unconverged_ += status[i] == rom::kQuadratureUnconverged;
+    last_quadrature_mass_ += mass[i];
+  }
+  return quadrature_.view();
 }
 
 void ReducedSim::substep(float dt) {
@@ -183,77 +368,43 @@ void ReducedSim::substep(float dt) {
 
   Index m = 0;
   timed([&] {
-    const std::vector<std::int32_t> samples = choose_samples();
-    m = Index(samples.size());
-    if (sample_index_.size() != m) {
-      for (DeviceBuffer<float>* planes : {&sample_X_, &sample_x_, &sample_v_})
-        *planes = DeviceBuffer<float>(backend, 3 * m);
-      sample_F_ = DeviceBuffer<float>(backend, 9 * m);
-      sample_C_ = DeviceBuffer<float>(backend, 9 * m);
-      sample_C_.fill_zero();
-      sample_mass_ = DeviceBuffer<float>(backend, m);
-      sample_volume0_ = DeviceBuffer<float>(backend, m);
-      sample_dg_dxhat_ = DeviceBuffer<float>(backend, 3 * r * m);
-      model_x_ = DeviceBuffer<float>(backend, 3 * m);
-      sample_material_ = DeviceBuffer<std::int32_t>(backend, m);
-      sample_group_ = DeviceBuffer<std::int32_t>(backend, m);
-      sample_id_ = DeviceBuffer<std::int32_t>(backend, m);
-    }
-    sample_index_ = DeviceBuffer<std::int32_t>::from_host(backend, samples, exec_.stream);
+    const std::vector<std::int32_t> chosen = choose_samples();
+    m = Index(chosen.size());
+    resize_samples(m);
+    sample_index_ = DeviceBuffer<std::int32_t>::from_host(backend, chosen, exec_.stream);
+    gather(exec_, X_, n, 3, sample_index_, samples_.X);
+    gather(exec_, mass_, n, 1, sample_index_, samples_.mass);
+    gather(exec_, volume0_, n, 1, sample_index_, samples_.volume0);
+    gather(exec_, material_, n, 1, sample_index_, samples_.material);
+    gather(exec_, dirichlet_group_, n, 1, sample_index_, samples_.group);
+    gather(exec_, id_, n, 1, sample_index_, samples_.id);
   });
 
-  // Alg. 3: the kinematics of the quadrature points (every material point) at x̂_n, v̂_n.
+  // Alg. 3 / 4: the kinematics at x̂_n, v̂_n of the samples and of the quadrature points.
+  mpm::ParticleView quadrature;
   timed([&] {
     xhat_device_.copy_from_host(Span<const float>(xhat_.data(), r), exec_.stream);
     vhat_device_ = DeviceBuffer<float>::from_host(backend, vhat_, exec_.stream);
-    evaluate_map(Vec3Planes<const float>(X_.data(), n),
-                 {Vec3Planes<float>(x_.data(), n), Mat3Planes<float>(F_.data(), n), dg_dxhat_.span()});
-    rom::latent_to_point_velocity(exec_, r, dg_dxhat_.span(), vhat_device_.span(), Vec3Planes<float>(v_.data(), n));
+    evaluate_map(Vec3Planes<const float>(samples_.X.data(), m),
+                 {Vec3Planes<float>(samples_.x.data(), m), Mat3Planes<float>(samples_.F.data(), m),
+                  sample_dg_dxhat_.span()});
+    rom::latent_to_point_velocity(exec_, r, sample_dg_dxhat_.span(), vhat_device_.span(),
+                                  Vec3Planes<float>(samples_.v.data(), m));
+    quadrature = options_.quadrature == RomQuadrature::Lagrangian ? lagrangian_quadrature() : eulerian_quadrature(m);
   });
-  const mpm::ParticleView quadrature{n,
-                                     Vec3Planes<float>(x_.data(), n),
-                                     Vec3Planes<float>(v_.data(), n),
-                                     Mat3Planes<float>(C_.data(), n),
-                                     Mat3Planes<float>(F_.data(), n),
-                                     mass_.span(),
-                                     volume0_.span(),
-                                     material_.span(),
-                                     dirichlet_group_.span(),
-                                     id_.span()};
   // Alg. 5: P2G from the quadrature points, the grid update, G2P at the samples.
   timed([&] { grid_.rebuild(exec_, Vec3Planes<const float>(quadrature.x)); });
   const mpm::GridView grid = grid_.view();
   timed([&] { mpm::particle_to_grid(exec_, quadrature, grid, step); });
   timed([&] { mpm::update_grid(exec_, grid, step); });
-  const mpm::ParticleView samples{m,
-                                  Vec3Planes<float>(sample_x_.data(), m),
-                                  Vec3Planes<float>(sample_v_.data(), m),
-                                  Mat3Planes<float>(sample_C_.data(), m),
-                                  Mat3Planes<float>(sample_F_.data(), m),
-                                  sample_mass_.span(),
-                                  sample_volume0_.span(),
-                                  sample_material_.span(),
-                                  sample_group_.span(),
-                                  sample_id_.span()};
-  timed([&] {
-    gather(exec_, X_, n, 3, sample_index_, sample_X_);
-    gather(exec_, x_, n, 3, sample_index_, sample_x_);
-    gather(exec_, v_, n, 3, sample_index_, sample_v_);
-    gather(exec_, F_, n, 9, sample_index_, sample_F_);
-    gather(exec_, mass_, n, 1, sample_index_, sample_mass_);
-    gather(exec_, volume0_, n, 1, sample_index_, sample_volume0_);
-    gather(exec_, material_, n, 1, sample_index_, sample_material_);
-    gather(exec_, dirichlet_group_, n, 1, sample_index_, sample_group_);
-    gather(exec_, id_, n, 1, sample_index_, sample_id_);
-    gather(exec_, dg_dxhat_, n, 3 * r, sample_index_, sample_dg_dxhat_);
-    mpm::grid_to_particle(exec_, samples, grid, step);
-  });
+  const mpm::ParticleView samples = samples_.view();
+  timed([&] { mpm::grid_to_particle(exec_, samples, grid, step); });
   check_stages();
 
   // Alg. 6 / 7: v̂_{n+1} from the trial velocities on the tangent space at x̂_n; then x̂_{n+1}.
   timed([&] {
     const std::vector<double> v_fit =
-        solve_projection(sample_dg_dxhat_.span(), Vec3Planes<const float>(sample_v_.data(), m), {}).first;
+        solve_projection(sample_dg_dxhat_.span(), Vec3Planes<const float>(samples_.v.data(), m), {}).first;
     std::vector<float> vhat(v_fit.begin(), v_fit.end());
     std::vector<float> xhat(static_cast<std::size_t>(r));
     for (int j = 0; j < r; ++j) xhat[j] = xhat_[j] + dt * vhat[j];
@@ -276,7 +427,7 @@ void ReducedSim::substep(float dt) {
 
 std::vector<float> ReducedSim::project_positions(const std::vector<float>& guess, Index m) {
   const int r = latent_;
-  const Vec3Planes<const float> X(sample_X_.data(), m), trial(sample_x_.data(), m), model(model_x_.data(), m);
+  const Vec3Planes<const float> X(samples_.X.data(), m), trial(samples_.x.data(), m), model(model_x_.data(), m);
   // Σ ‖x_trial − g(X; y)‖² and its Gauss–Newton system at y.
   auto linearise = [&](const std::vector<float>& y) {
     xhat_device_.copy_from_host(Span<const float>(y.data(), r), exec_.stream);
@@ -316,7 +467,7 @@ void ReducedSim::check_stages() const {
     if (failures[s] == mpm::kNoFailure) continue;
     const auto failed = mpm::Stage(s);
     std::int64_t index = failures[s];
-    std::string what = fmt::format("material point {}", index);  // P2G runs over every material point
+    std::string what = fmt::format("quadrature point {}", index);
     if (failed == mpm::Stage::GridUpdate) {
       what = fmt::format("grid node {}", index);
     } else if (failed == mpm::Stage::G2P) {  // G2P runs over the samples: report the material point
@@ -345,8 +496,9 @@ void ReducedSim::advance_to(double t) {
 
 std::vector<float> ReducedSim::decode_positions() {
   xhat_device_.copy_from_host(Span<const float>(xhat_.data(), latent_), exec_.stream);
-  evaluate_map(Vec3Planes<const float>(X_.data(), points_), {Vec3Planes<float>(x_.data(), points_), {}, {}});
-  return x_.to_host(exec_.stream);
+  DeviceBuffer<float> x(exec_.backend, 3 * points_);
+  evaluate_map(Vec3Planes<const float>(X_.data(), points_), {Vec3Planes<float>(x.data(), points_), {}, {}});
+  return x.to_host(exec_.stream);
 }
 
 }  // namespace romp

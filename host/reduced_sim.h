@@ -3,10 +3,11 @@
 // from the deformation map g, runs the MPM update for a few sample material points, and projects
 // their updated velocities (and positions) back onto the manifold.
 //
-// This first version implements Lagrangian quadrature (Alg. 3) with every material point as a
-// quadrature point. Points farther than a stencil from the samples' grid nodes add nothing to those
-// nodes, so this is Alg. 3's result, at Alg. 3's P-dependent cost (the paper finds no speed-up for
-// Lagrangian quadrature either). Eulerian quadrature (Alg. 4) is what makes the step independent of P.
+// Quadrature (Sec. 3.2.2). Lagrangian (Alg. 3) uses every material point as a quadrature point: points
+// farther than a stencil from the samples' grid nodes add nothing to those nodes, so this is Alg. 3's
+// result at Alg. 3's P-dependent cost (the paper finds no speed-up for Lagrangian quadrature either).
+// Eulerian (Alg. 4) places ℓ points per cell per axis in the cells whose points reach the samples'
+// grid nodes and inverts g there: its cost depends on the sample count, not on P.
 #pragma once
 
 #include <cstdint>
@@ -23,8 +24,11 @@
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/rom/deformation_map_eval.h"
+#include "kernels/rom/eulerian_quadrature.h"
 
 namespace romp {
+
+enum class RomQuadrature { Lagrangian, Eulerian };
 
 enum class RomProjection {
   Velocity,          // Alg. 7: v̂ from the trial velocities, x̂ += Δt v̂
@@ -32,7 +36,13 @@ enum class RomProjection {
 };
 
 struct ReducedOptions {
+  RomQuadrature quadrature = RomQuadrature::Lagrangian;
   RomProjection projection = RomProjection::Velocity;
+  int points_per_cell = 2;  // ℓ of the Eulerian quadrature, per axis
+  // Newton inversion of g for Eulerian points: at most this many iterations, converged within
+  // inversion_tolerance × dx.
+  int inversion_iterations = 20;
+  float inversion_tolerance = 1e-4f;
   // Sample material points drawn anew each substep (hyper-reduction); 0 or ≥ the point count: all.
   Index samples = 0;
   // Drawn from every Dirichlet group in addition, so prescribed motions reach the projection (the
@@ -75,10 +85,21 @@ class ReducedSim {
   std::int64_t steps() const { return steps_; }
   // Substeps whose Gauss–Newton projection stopped at its iteration limit before converging.
   std::int64_t unconverged_projections() const { return unconverged_projections_; }
+  // Eulerian quadrature points so far: used, dropped outside the body, dropped unconverged (or inverted).
+  std::int64_t quadrature_points_used() const { return quadrature_used_; }
+  std::int64_t quadrature_points_outside() const { return quadrature_outside_; }
+  std::int64_t quadrature_points_unconverged() const { return quadrature_unconverged_; }
+  // The quadrature mass of the last substep (kg): with every point sampled, the body's mass.
+  double last_quadrature_mass() const { return last_quadrature_mass_; }
   std::vector<std::pair<std::string, double>> stage_seconds() const { return stage_seconds_; }
 
  private:
   std::vector<std::int32_t> choose_samples();
+  void resize_samples(Index m);
+  // The quadrature points of this substep in quadrature_, and their view.
+  mpm::ParticleView lagrangian_quadrature();
+  mpm::ParticleView eulerian_quadrature(Index m);
+  void build_occupancy(const mpm::ParticleInit& reference);
   rom::DeformationMapView<float> map_view() const;
   // Evaluates g at the reference points `X` (n of them) for x̂ on the device.
   void evaluate_map(Vec3Planes<const float> X, const rom::DeformationMapOutputs<float>& out);
@@ -101,16 +122,28 @@ class ReducedSim {
   int latent_;
   Index points_;
 
-  // The material points (reference order): X, mass, volume, material, Dirichlet group.
+  // The material points in reference order (X, mass, volume, material, Dirichlet group, id).
   DeviceBuffer<float> X_, mass_, volume0_;
   DeviceBuffer<std::int32_t> material_, dirichlet_group_, id_;
   std::vector<std::int32_t> free_points_;                  // not in a Dirichlet group
   std::vector<std::vector<std::int32_t>> group_members_;  // per Dirichlet group
-  // Quadrature-point kinematics (every material point) and the samples' state.
-  DeviceBuffer<float> x_, v_, C_, F_, dg_dxhat_;
-  DeviceBuffer<float> sample_X_, sample_x_, sample_v_, sample_C_, sample_F_, sample_mass_, sample_volume0_;
+  // The quadrature points of a substep (Lagrangian: every material point, in reference order).
+  struct Quadrature {
+    Index count = 0;
+    DeviceBuffer<float> x, X, v, C, F, mass, volume0;
+    DeviceBuffer<std::int32_t> material, group, id, status;
+    void allocate(Backend backend, Index n);
+    mpm::ParticleView view();
+  } quadrature_;
+  DeviceBuffer<float> dg_dxhat_;  // Lagrangian: ∂g/∂x̂ at every material point
+  // The samples: reference and current state, ∂g/∂x̂ there, and g during Gauss–Newton.
+  Quadrature samples_;
   DeviceBuffer<float> sample_dg_dxhat_, model_x_;
-  DeviceBuffer<std::int32_t> sample_index_, sample_material_, sample_group_, sample_id_;
+  DeviceBuffer<std::int32_t> sample_index_;
+  // Eulerian: the occupancy of the reference configuration and ρ₀ per material.
+  DeviceBuffer<std::int32_t> occupancy_cells_;
+  rom::ReferenceOccupancy occupancy_;
+  DeviceBuffer<float> densities_;
   DeviceBuffer<float> xhat_device_, vhat_device_;
   DeviceBuffer<double> system_;
 
@@ -121,6 +154,8 @@ class ReducedSim {
   double time_ = 0.0;
   std::int64_t steps_ = 0;
   std::int64_t unconverged_projections_ = 0;
+  std::int64_t quadrature_used_ = 0, quadrature_outside_ = 0, quadrature_unconverged_ = 0;
+  double last_quadrature_mass_ = 0.0;
   std::vector<std::pair<std::string, double>> stage_seconds_;
 };
 

@@ -47,10 +47,14 @@ DeformationMapWeights translation_map() {
   return map;
 }
 
-std::vector<float> full_order_positions() {
-  FullOrderSim sim(test::exec(), falling_config(), cube());
-  for (int s = 0; s < kSteps; ++s) sim.substep(kDt);
-  return sim.particles().positions_in_initial_order(sim.exec());
+// The reference trajectory, run once per test binary.
+const std::vector<float>& full_order_positions() {
+  static const std::vector<float> positions = [] {
+    FullOrderSim sim(test::exec(), falling_config(), cube());
+    for (int s = 0; s < kSteps; ++s) sim.substep(kDt);
+    return sim.particles().positions_in_initial_order(sim.exec());
+  }();
+  return positions;
 }
 
 std::vector<float> reduced_positions(const ReducedOptions& options) {
@@ -71,7 +75,7 @@ float largest_difference(const std::vector<float>& a, const std::vector<float>& 
 constexpr float kTrajectoryTolerance = 2e-6f;
 
 TEST(ReducedSim, VelocityProjectionReproducesTheFullOrderTranslation) {
-  const std::vector<float> full = full_order_positions();
+  const std::vector<float>& full = full_order_positions();
   const std::vector<float> reduced = reduced_positions({});
   // The cube drifted 2 cm along x (and fell 8 mm); the trajectories agree to rounding.
   EXPECT_NEAR(full[0] - cube().x[0], kInitialVelocity[0] * kSteps * kDt, 1e-4f);
@@ -89,6 +93,31 @@ TEST(ReducedSim, TenSamplesFollowTheSameTrajectoryAsEveryPoint) {
   hyper.samples = 10;
   hyper.seed = 3;
   EXPECT_LT(largest_difference(reduced_positions({}), reduced_positions(hyper)), kTrajectoryTolerance);
+}
+
+TEST(ReducedSim, EulerianQuadratureReproducesTheFullOrderTranslation) {
+  ReducedOptions eulerian;
+  eulerian.quadrature = RomQuadrature::Eulerian;
+  EXPECT_LT(largest_difference(full_order_positions(), reduced_positions(eulerian)), kTrajectoryTolerance);
+  eulerian.samples = 10;
+  eulerian.projection = RomProjection::PositionVelocity;
+  EXPECT_LT(largest_difference(full_order_positions(), reduced_positions(eulerian)), kTrajectoryTolerance);
+}
+
+TEST(ReducedSim, EulerianQuadratureWeighsTheBodyAndDropsPointsOutsideIt) {
+  // At x̂ = 0 the map is the identity, and ℓ = 2 points per cell of a lattice body sampled at 2 per
+  // cell sit exactly on its material points: the quadrature mass is the body's mass.
+  const mpm::ParticleInit body = cube();
+  ReducedOptions eulerian;
+  eulerian.quadrature = RomQuadrature::Eulerian;
+  ReducedSim sim(test::exec(), falling_config(), body, translation_map(), {0.0f, 0.0f, 0.0f}, eulerian);
+  sim.substep(kDt);
+  double mass = 0.0;
+  for (const float m : body.mass) mass += m;
+  EXPECT_NEAR(sim.last_quadrature_mass(), mass, 1e-5 * mass);
+  EXPECT_EQ(sim.quadrature_points_used(), body.count());
+  EXPECT_GT(sim.quadrature_points_outside(), 0);  // the cells around the body reach its boundary nodes
+  EXPECT_EQ(sim.quadrature_points_unconverged(), 0);
 }
 
 TEST(ReducedSim, InitialGeneralizedVelocityFitsTheInitialVelocities) {

@@ -1,0 +1,65 @@
+// Eulerian quadrature for the ROM (ROM paper, Alg. 4): quadrature points fixed in the current
+// configuration (ℓ per grid cell per axis) get their reference positions by inverting the deformation
+// map, X = g⁻¹(x; x̂), and from there F = ∇_X g, v = (∂g/∂x̂) v̂ and the mass ρ₀ V / J.
+#pragma once
+
+#include <cstdint>
+
+#include "kernels/core/exec.h"
+#include "kernels/core/hd.h"
+#include "kernels/core/span.h"
+#include "kernels/math/mat3_planes.h"
+#include "kernels/math/vec3.h"
+#include "kernels/rom/deformation_map_eval.h"
+
+namespace romp::rom {
+
+// Where the reference configuration has material: cells of side h over a box from `origin`, each
+// holding 1 + the material index of the material point sampled in it, or 0 where there is none. With
+// lattice sampling (a point at the centre of every cell of side h inside the body) the union of the
+// occupied cells is exactly the sampled body.
+struct ReferenceOccupancy {
+  Vec3<float> origin = Vec3<float>::zero();
+  float inverse_h = 0.0f;
+  int cells[3] = {0, 0, 0};
+  Span<const std::int32_t> material_plus_one;
+
+  // The material at X, or −1 outside the body.
+  ROMP_HD int material_at(const Vec3<float>& X) const {
+    int cell[3];
+    for (int a = 0; a < 3; ++a) {
+      const float c = (X[a] - origin[a]) * inverse_h;
+      if (!(c >= 0.0f && c < float(cells[a]))) return -1;  // also rejects NaN
+      cell[a] = int(c);
+    }
+    return material_plus_one[(Index(cell[2]) * cells[1] + cell[1]) * cells[0] + cell[0]] - 1;
+  }
+};
+
+// How g is inverted: damped Newton, X ← X − α F⁻¹ (g(X) − x), α halved until the residual falls.
+struct InversionOptions {
+  int iterations = 20;
+  float tolerance = 0.0f;  // m: converged when |g(X) − x| ≤ tolerance
+};
+
+// What happened to each quadrature point.
+enum QuadratureStatus : std::int32_t { kQuadratureUsed = 0, kQuadratureOutside = 1, kQuadratureUnconverged = 2 };
+
+struct EulerianPointsOut {
+  Vec3Planes<float> X, v;
+  Mat3Planes<float> F;
+  Span<float> mass, volume0;  // ρ₀ V / J and V / J; 0 for dropped points
+  Span<std::int32_t> material, status;
+};
+
+// For n points at x (current configuration) with first guesses X_guess: inverts g, looks the result up
+// in `occupancy`, and writes the kinematics. Points that do not converge or land outside the body are
+// dropped: mass and volume 0, F = I, v = 0, so they add nothing to a P2G. `density` holds ρ₀ per
+// material; `volume` is each point's share of the current configuration (dx³ / ℓ³). xhat, vhat: r
+// values on exec's backend.
+void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map, Span<const float> xhat,
+                         Span<const float> vhat, const ReferenceOccupancy& occupancy, Span<const float> density,
+                         float volume, const InversionOptions& options, Vec3Planes<const float> x,
+                         Vec3Planes<const float> X_guess, const EulerianPointsOut& out);
+
+}  // namespace romp::rom
