@@ -85,7 +85,7 @@ mpm::ParticleView ReducedSim::Quadrature::view() {
 }
 
 ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::ParticleInit& reference,
-                       DeformationMapWeights map, std::vector<float> xhat, ReducedOptions options)
+                       rom::DeformationMapWeights map, std::vector<float> xhat, ReducedOptions options)
     : exec_(exec),
       config_(std::move(config)),
       inputs_(exec, config_),
@@ -492,6 +492,21 @@ void ReducedSim::check_latent(const char* stage) const {
 
 void ReducedSim::advance_to(double t) {
   advance_clock(time_, t, [this] { return double(stable_dt()); }, [this](float dt) { substep(dt); });
+}
+
+ReducedSim::DecodedState ReducedSim::decode(const std::vector<float>& X_host) {
+  ROMP_CHECK(X_host.size() % 3 == 0, "reference points come as 3 planes");
+  const Index n = Index(X_host.size() / 3);
+  if (n == 0) return {};
+  const Backend backend = exec_.backend;
+  const DeviceBuffer<float> X = DeviceBuffer<float>::from_host(backend, X_host, exec_.stream);
+  DeviceBuffer<float> x(backend, 3 * n), F(backend, 9 * n), v(backend, 3 * n), dg(backend, 3 * Index(latent_) * n);
+  xhat_device_.copy_from_host(Span<const float>(xhat_.data(), latent_), exec_.stream);
+  vhat_device_ = DeviceBuffer<float>::from_host(backend, vhat_, exec_.stream);
+  evaluate_map(Vec3Planes<const float>(X.data(), n),
+               {Vec3Planes<float>(x.data(), n), Mat3Planes<float>(F.data(), n), dg.span()});
+  rom::latent_to_point_velocity(exec_, latent_, dg.span(), vhat_device_.span(), Vec3Planes<float>(v.data(), n));
+  return {x.to_host(exec_.stream), F.to_host(exec_.stream), v.to_host(exec_.stream)};
 }
 
 std::vector<float> ReducedSim::decode_positions() {

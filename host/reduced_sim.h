@@ -55,27 +55,26 @@ struct ReducedOptions {
   double gauss_newton_tolerance = 1e-6;
 };
 
-// The map's weights as the fused evaluator reads them (see kernels/rom/deformation_map_eval.h).
-struct DeformationMapWeights {
-  int latent = 0, hidden_layers = 0, width = 0;
-  std::vector<float> parameters;
-  Vec3<float> X_min = Vec3<float>::zero(), X_scale = Vec3<float>::zero();
-  Vec3<float> u_mean = Vec3<float>::zero(), u_std = Vec3<float>::zero();
-};
-
 class ReducedSim {
  public:
   // `reference`: the material points in the reference configuration (x, with F = I), with their mass,
   // volume, material and Dirichlet group, as scene_setup samples them. `xhat` is x̂ at t = 0 (the
   // encoder's value for the initial state); v̂ at t = 0 is the least-squares fit of reference.v.
   ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::ParticleInit& reference,
-             DeformationMapWeights map, std::vector<float> xhat, ReducedOptions options);
+             rom::DeformationMapWeights map, std::vector<float> xhat, ReducedOptions options);
 
   float stable_dt() const;
   void substep(float dt);
   // Substeps until time() reaches t (the last substep is shortened to land on t).
   void advance_to(double t);
 
+  // The state at reference points X (3 planes of n): x = g(X; x̂), F = ∇_X g, v = (∂g/∂x̂) v̂. Any
+  // points of the reference body will do, e.g. a finer sampling of it (super-resolution, ROM paper,
+  // Sec. 5.2.1).
+  struct DecodedState {
+    std::vector<float> x, F, v;  // 3, 9 and 3 planes of n
+  };
+  DecodedState decode(const std::vector<float>& X);
   // x = g(X; x̂) for every material point, 3 planes in the reference order.
   std::vector<float> decode_positions();
 
@@ -117,7 +116,7 @@ class ReducedSim {
   StepInputs inputs_;
   mpm::SparseGrid grid_;
   ReducedOptions options_;
-  DeformationMapWeights map_;
+  rom::DeformationMapWeights map_;
   DeviceBuffer<float> map_parameters_;
   int latent_;
   Index points_;

@@ -14,6 +14,8 @@
 // thread-local memory, with the weights shared by every thread (broadcast reads on the GPU).
 #pragma once
 
+#include <vector>
+
 #include "kernels/core/exec.h"
 #include "kernels/core/hd.h"
 #include "kernels/core/span.h"
@@ -42,6 +44,15 @@ struct DeformationMapView {
 
 // The number of scalars in `parameters` for a map of these sizes.
 Index deformation_map_parameter_count(int latent, int hidden_layers, int width);
+
+// A map's sizes, packed parameters and normalisation on the host, as a model file provides them; the
+// owner uploads `parameters` and points a DeformationMapView at them.
+struct DeformationMapWeights {
+  int latent = 0, hidden_layers = 0, width = 0;
+  std::vector<float> parameters;
+  Vec3<float> X_min = Vec3<float>::zero(), X_scale = Vec3<float>::zero();
+  Vec3<float> u_mean = Vec3<float>::zero(), u_std = Vec3<float>::zero();
+};
 
 // Outputs for n points. Any of the three may be left empty (null data) to skip it; the Jacobian is
 // computed only when F or dg_dxhat is asked for.

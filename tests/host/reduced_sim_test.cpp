@@ -36,8 +36,8 @@ mpm::ParticleInit cube() {
 }
 
 // x = X + out, out = [I₃ | 0] [x̂, X̄]: the translation family as a one-layer (linear) map.
-DeformationMapWeights translation_map() {
-  DeformationMapWeights map;
+rom::DeformationMapWeights translation_map() {
+  rom::DeformationMapWeights map;
   map.latent = 3;
   map.hidden_layers = 0;
   map.parameters.assign(std::size_t(rom::deformation_map_parameter_count(3, 0, 0)), 0.0f);
@@ -118,6 +118,23 @@ TEST(ReducedSim, EulerianQuadratureWeighsTheBodyAndDropsPointsOutsideIt) {
   EXPECT_EQ(sim.quadrature_points_used(), body.count());
   EXPECT_GT(sim.quadrature_points_outside(), 0);  // the cells around the body reach its boundary nodes
   EXPECT_EQ(sim.quadrature_points_unconverged(), 0);
+}
+
+TEST(ReducedSim, DecodesAFinerSamplingOfTheBody) {
+  // Super-resolution: the state at points the simulation never had, here a lattice twice as fine.
+  ReducedSim sim(test::exec(), falling_config(), cube(), translation_map(), {0.0f, 0.0f, 0.0f}, {});
+  for (int s = 0; s < 5; ++s) sim.substep(kDt);
+  const mpm::ParticleInit fine = test::lattice_box(Vec3<float>::constant(0.375f), Vec3<float>::constant(0.625f), kDx,
+                                                   4, 1000.0f);
+  const ReducedSim::DecodedState state = sim.decode(fine.x);
+  const Index n = fine.count();
+  ASSERT_EQ(Index(state.x.size()), 3 * n);
+  for (Index p = 0; p < n; p += 97)
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_FLOAT_EQ(state.x[a * n + p], fine.x[a * n + p] + sim.xhat()[a]);
+      EXPECT_FLOAT_EQ(state.v[a * n + p], sim.vhat()[a]);
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(state.F[(3 * a + c) * n + p], a == c ? 1.0f : 0.0f);
+    }
 }
 
 TEST(ReducedSim, InitialGeneralizedVelocityFitsTheInitialVelocities) {
