@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "kernels/core/device_timer.h"
+#include "host/stage_clock.h"
 #include "kernels/core/memory.h"
 
 namespace romp {
@@ -44,13 +44,7 @@ void FullOrderSim::substep(float dt) {
   ROMP_CHECK(dt > 0.0f && std::isfinite(dt), fmt::format("substep dt must be finite and > 0, got {}", dt));
   const mpm::StepParams step = inputs_.at(time_, dt);
 
-  DeviceTimer timer(exec_);
-  std::size_t stage = 0;
-  auto timed = [&](auto&& run) {
-    timer.start();
-    run();
-    stage_seconds_[stage++].second += timer.stop();
-  };
+  StageClock timed(exec_, stage_seconds_);
   const float inverse_dx = 1.0f / config_.dx;
   timed([&] { particles_.sort_by_block(exec_, inverse_dx); });
   const mpm::ParticleView particles = particles_.view();

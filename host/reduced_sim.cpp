@@ -10,7 +10,7 @@
 #include <unordered_set>
 
 #include "host/full_order_sim.h"
-#include "kernels/core/device_timer.h"
+#include "host/stage_clock.h"
 #include "kernels/core/for_each.h"
 #include "kernels/core/gather_planes.h"
 #include "kernels/math/cholesky_solve.h"
@@ -358,13 +358,7 @@ void ReducedSim::substep(float dt) {
   const Index n = points_;
   const int r = latent_;
   const mpm::StepParams step = inputs_.at(time_, dt);
-  DeviceTimer timer(exec_);
-  std::size_t stage = 0;
-  auto timed = [&](auto&& run) {
-    timer.start();
-    run();
-    stage_seconds_[stage++].second += timer.stop();
-  };
+  StageClock timed(exec_, stage_seconds_);
 
   Index m = 0;
   timed([&] {

@@ -11,6 +11,7 @@
 
 #include "host/build_info.h"
 #include "host/full_order_sim.h"
+#include "host/run/simulation.h"
 #include "host/io/checkpoint.h"
 #include "host/io/io_worker.h"
 #include "host/io/snapshot_layout.h"
@@ -46,19 +47,6 @@ io::SnapshotHeader snapshot_header(const scene::Scene& scene, const mpm::Particl
   return header;
 }
 
-// The whole particle state in the initial order (the checkpoint needs every field; the snapshot
-// keeps the selected ones).
-io::FrameData capture(FullOrderSim& sim) {
-  io::FrameData frame;
-  frame.time = sim.time();
-  frame.step = sim.steps();
-  frame.x = sim.particles().positions_in_initial_order(sim.exec());
-  frame.v = sim.particles().velocities_in_initial_order(sim.exec());
-  frame.F = sim.particles().deformation_gradients_in_initial_order(sim.exec());
-  frame.C = sim.particles().affine_velocities_in_initial_order(sim.exec());
-  return frame;
-}
-
 // Frame k's time; the last frame lands exactly on the scene's end time.
 double frame_time(const scene::Scene& scene, std::int64_t frame) {
   return frame == scene.frame_count ? scene.end_time : double(frame) / scene.frame_rate;
@@ -74,6 +62,8 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   const bool ply = scene.output.ply || options.ply;
   const std::string checkpoint_file = io::checkpoint_path(output);
 
+  if (options.resume && options.make_reduced)
+    throw Error("--resume continues full-order runs; a reduced-order run is fast to repeat from the start");
   scene::SceneSetup setup = scene::build_scene(scene);
   const io::SnapshotHeader header = snapshot_header(scene, setup.particles);
   result.particles = setup.particles.count();
@@ -110,8 +100,11 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
     writer = std::make_unique<io::SnapshotWriter>(output, header, fields, ply);
   }
 
-  FullOrderSim sim(exec, setup.config, setup.particles);
-  sim.restore_clock(restored_time, restored_steps);
+  const std::unique_ptr<Simulation> simulation =
+      options.make_reduced ? options.make_reduced(exec, setup)
+                           : full_order_simulation(exec, setup.config, setup.particles, restored_time, restored_steps);
+  Simulation& sim = *simulation;
+  const bool checkpoints = sim.resumable();
   result.first_frame = first_frame;
 
   // The I/O worker owns the writer's calls from here on: frames (with their PLY files) and
@@ -120,10 +113,10 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   double output_seconds = 0.0;
   auto hand_off = [&](std::int64_t frame) {
     const auto t0 = std::chrono::steady_clock::now();
-    auto state = std::make_shared<const io::FrameData>(capture(sim));
-    worker.submit([&writer, state, frame, &checkpoint_file, &scene] {
+    auto state = std::make_shared<const io::FrameData>(sim.capture());
+    worker.submit([&writer, state, frame, &checkpoint_file, &scene, checkpoints] {
       writer->append_frame(*state);
-      io::write_checkpoint(checkpoint_file, io::Checkpoint{*state, frame, scene.resolved_text});
+      if (checkpoints) io::write_checkpoint(checkpoint_file, io::Checkpoint{*state, frame, scene.resolved_text});
     });
     output_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
@@ -159,7 +152,7 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
     result.output_in_progress = io::partial_path(output);
   } else {
     writer->finish();
-    fs::remove(checkpoint_file);
+    if (checkpoints) fs::remove(checkpoint_file);
     result.output = output;
   }
   result.substeps = sim.steps() - steps_before;

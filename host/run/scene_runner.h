@@ -1,13 +1,17 @@
-// run_scene: a full-order run of a scene, frame by frame, with snapshots written off the critical
+// run_scene: a run of a scene (full-order, or reduced-order with a model), frame by frame, with snapshots written off the critical
 // path, a checkpoint per frame for --resume, a progress bar, and a stage table.
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "host/run/simulation.h"
 #include "host/scene/scene.h"
+#include "host/scene/scene_setup.h"
 #include "kernels/core/exec.h"
 
 namespace romp::run {
@@ -18,6 +22,9 @@ struct RunOptions {
   bool ply = false;              // PLY per frame even if the scene does not ask for it
   bool progress = true;
   std::int64_t stop_at_frame = -1;  // >= 0: stop after this frame, leaving a resumable partial output
+  // Set for a reduced-order run: builds its simulation from the scene's setup (the model it needs is
+  // the caller's business). Empty: the full-order engine.
+  std::function<std::unique_ptr<Simulation>(const Exec&, const scene::SceneSetup&)> make_reduced;
 };
 
 struct RunResult {

@@ -10,8 +10,8 @@
 
 #include "host/material_library.h"
 #include "host/reduced_sim.h"
-#include "kernels/rom/deformation_map_eval.h"
 #include "tests/host/mpm_test_scenes.h"
+#include "tests/host/rom_test_maps.h"
 #include "tests/support/test_exec.h"
 
 namespace romp {
@@ -35,18 +35,6 @@ mpm::ParticleInit cube() {
   return init;
 }
 
-// x = X + out, out = [I₃ | 0] [x̂, X̄]: the translation family as a one-layer (linear) map.
-rom::DeformationMapWeights translation_map() {
-  rom::DeformationMapWeights map;
-  map.latent = 3;
-  map.hidden_layers = 0;
-  map.parameters.assign(std::size_t(rom::deformation_map_parameter_count(3, 0, 0)), 0.0f);
-  for (int o = 0; o < 3; ++o) map.parameters[std::size_t(o * 6 + o)] = 1.0f;  // weight [3 × 6], then bias [3]
-  map.X_scale = Vec3<float>::constant(1.0f);
-  map.u_std = Vec3<float>::constant(1.0f);
-  return map;
-}
-
 // The reference trajectory, run once per test binary.
 const std::vector<float>& full_order_positions() {
   static const std::vector<float> positions = [] {
@@ -58,7 +46,7 @@ const std::vector<float>& full_order_positions() {
 }
 
 std::vector<float> reduced_positions(const ReducedOptions& options) {
-  ReducedSim sim(test::exec(), falling_config(), cube(), translation_map(), {0.0f, 0.0f, 0.0f}, options);
+  ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, options);
   for (int s = 0; s < kSteps; ++s) sim.substep(kDt);
   EXPECT_EQ(sim.unconverged_projections(), 0);
   return sim.decode_positions();
@@ -110,7 +98,7 @@ TEST(ReducedSim, EulerianQuadratureWeighsTheBodyAndDropsPointsOutsideIt) {
   const mpm::ParticleInit body = cube();
   ReducedOptions eulerian;
   eulerian.quadrature = RomQuadrature::Eulerian;
-  ReducedSim sim(test::exec(), falling_config(), body, translation_map(), {0.0f, 0.0f, 0.0f}, eulerian);
+  ReducedSim sim(test::exec(), falling_config(), body, test::translation_map(), {0.0f, 0.0f, 0.0f}, eulerian);
   sim.substep(kDt);
   double mass = 0.0;
   for (const float m : body.mass) mass += m;
@@ -122,7 +110,7 @@ TEST(ReducedSim, EulerianQuadratureWeighsTheBodyAndDropsPointsOutsideIt) {
 
 TEST(ReducedSim, DecodesAFinerSamplingOfTheBody) {
   // Super-resolution: the state at points the simulation never had, here a lattice twice as fine.
-  ReducedSim sim(test::exec(), falling_config(), cube(), translation_map(), {0.0f, 0.0f, 0.0f}, {});
+  ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
   for (int s = 0; s < 5; ++s) sim.substep(kDt);
   const mpm::ParticleInit fine = test::lattice_box(Vec3<float>::constant(0.375f), Vec3<float>::constant(0.625f), kDx,
                                                    4, 1000.0f);
@@ -138,14 +126,14 @@ TEST(ReducedSim, DecodesAFinerSamplingOfTheBody) {
 }
 
 TEST(ReducedSim, InitialGeneralizedVelocityFitsTheInitialVelocities) {
-  const ReducedSim sim(test::exec(), falling_config(), cube(), translation_map(), {0.0f, 0.0f, 0.0f}, {});
+  const ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
   for (int j = 0; j < 3; ++j) EXPECT_NEAR(sim.vhat()[j], kInitialVelocity[j], 1e-6f);
 }
 
 TEST(ReducedSim, NonFiniteGeneralizedCoordinatesStopWithAClearError) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   try {
-    ReducedSim sim(test::exec(), falling_config(), cube(), translation_map(), {0.0f, nan, 0.0f}, {});
+    ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, nan, 0.0f}, {});
     FAIL() << "a non-finite x̂ must be an error";
   } catch (const NonFiniteError& error) {
     EXPECT_NE(std::string(error.what()).find("x̂"), std::string::npos) << error.what();
@@ -155,7 +143,7 @@ TEST(ReducedSim, NonFiniteGeneralizedCoordinatesStopWithAClearError) {
 TEST(ReducedSim, PlasticMaterialsAreRejected) {
   FullOrderConfig config = falling_config();
   config.materials = {nclaw_material(NclawMaterial::Sand)};
-  EXPECT_THROW(ReducedSim(test::exec(), config, cube(), translation_map(), {0.0f, 0.0f, 0.0f}, {}), Error);
+  EXPECT_THROW(ReducedSim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {}), Error);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "host/io/snapshot_layout.h"
 #include "host/io/snapshot_reader.h"
 #include "host/scene/scene_parser.h"
+#include "tests/host/rom_test_maps.h"
 #include "tests/support/scratch_folder.h"
 
 namespace romp::run {
@@ -67,6 +68,33 @@ TEST_F(SceneRunner, WritesEveryFrameAndLeavesOnlyTheFinishedFiles) {
   EXPECT_EQ(reader.frame_count(), 9);
   EXPECT_EQ(reader.header().scene, scene.resolved_text);
   EXPECT_NEAR(reader.read_frame(8).time, 0.04, 1e-12);
+}
+
+TEST_F(SceneRunner, ReducedRunWritesTheDecodedStateOfEveryMaterialPoint) {
+  // The translation family g(X; x̂) = X + x̂ as the model: every frame is the initial body moved by x̂.
+  const scene::Scene scene = scene::parse_scene(cube_scene("jelly"), "cube.toml");
+  RunOptions o = options("reduced.h5");
+  o.make_reduced = [](const Exec& exec, const scene::SceneSetup& setup) {
+    return reduced_simulation(exec, setup.config, setup.particles, test::translation_map(), {0.0f, 0.0f, 0.0f},
+                              ReducedOptions{});
+  };
+  const RunResult r = run_scene(Exec::cpu(), scene, o);
+  EXPECT_EQ(r.frames_written, 8);
+  EXPECT_FALSE(fs::exists(io::checkpoint_path(o.output)));
+  const io::SnapshotReader reader(o.output);
+  ASSERT_EQ(reader.frame_count(), 9);
+  const std::vector<float>& X = reader.header().X;
+  const Index n = reader.header().particle_count();
+  const io::FrameData last = reader.read_frame(8);
+  // A rigid translation: every point moved by the same vector, and F = I.
+  for (Index p = 0; p < n; ++p)
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_NEAR(last.x[a * n + p] - X[a * n + p], last.x[a * n] - X[a * n], 1e-6f);
+      EXPECT_EQ(last.F[(4 * a) * n + p], 1.0f);
+    }
+  EXPECT_GT(std::fabs(last.x[0] - X[0]), 0.02f);  // it moved at 1 m/s for 0.04 s
+  o.resume = true;
+  EXPECT_THROW(run_scene(Exec::cpu(), scene, o), Error);
 }
 
 TEST_F(SceneRunner, ResumedRunIsBitwiseTheUninterruptedRun) {

@@ -1,0 +1,79 @@
+// The full-order and reduced-order engines behind the Simulation interface of the frame loop.
+#include "host/run/simulation.h"
+
+#include "host/full_order_sim.h"
+
+namespace romp::run {
+namespace {
+
+class FullOrderRun final : public Simulation {
+ public:
+  FullOrderRun(const Exec& exec, const FullOrderConfig& config, const mpm::ParticleInit& particles)
+      : sim_(exec, config, particles) {}
+
+  FullOrderSim& sim() { return sim_; }
+  void advance_to(double t) override { sim_.advance_to(t); }
+  io::FrameData capture() override {
+    io::FrameData frame;
+    frame.time = sim_.time();
+    frame.step = sim_.steps();
+    frame.x = sim_.particles().positions_in_initial_order(sim_.exec());
+    frame.v = sim_.particles().velocities_in_initial_order(sim_.exec());
+    frame.F = sim_.particles().deformation_gradients_in_initial_order(sim_.exec());
+    frame.C = sim_.particles().affine_velocities_in_initial_order(sim_.exec());
+    return frame;
+  }
+  double time() const override { return sim_.time(); }
+  std::int64_t steps() const override { return sim_.steps(); }
+  std::vector<std::pair<std::string, double>> stage_seconds() const override { return sim_.stage_seconds(); }
+  bool resumable() const override { return true; }
+
+ private:
+  FullOrderSim sim_;
+};
+
+class ReducedRun final : public Simulation {
+ public:
+  ReducedRun(const Exec& exec, const FullOrderConfig& config, const mpm::ParticleInit& particles,
+             rom::DeformationMapWeights map, std::vector<float> xhat, const ReducedOptions& options)
+      : sim_(exec, config, particles, std::move(map), std::move(xhat), options), X_(particles.x) {}
+
+  void advance_to(double t) override { sim_.advance_to(t); }
+  io::FrameData capture() override {
+    ReducedSim::DecodedState state = sim_.decode(X_);
+    io::FrameData frame;
+    frame.time = sim_.time();
+    frame.step = sim_.steps();
+    frame.C.assign(3 * state.x.size(), 0.0f);
+    frame.x = std::move(state.x);
+    frame.v = std::move(state.v);
+    frame.F = std::move(state.F);
+    return frame;
+  }
+  double time() const override { return sim_.time(); }
+  std::int64_t steps() const override { return sim_.steps(); }
+  std::vector<std::pair<std::string, double>> stage_seconds() const override { return sim_.stage_seconds(); }
+  bool resumable() const override { return false; }
+
+ private:
+  ReducedSim sim_;
+  std::vector<float> X_;  // the material points' reference positions
+};
+
+}  // namespace
+
+std::unique_ptr<Simulation> full_order_simulation(const Exec& exec, const FullOrderConfig& config,
+                                                  const mpm::ParticleInit& particles, double time,
+                                                  std::int64_t steps) {
+  auto run = std::make_unique<FullOrderRun>(exec, config, particles);
+  run->sim().restore_clock(time, steps);
+  return run;
+}
+
+std::unique_ptr<Simulation> reduced_simulation(const Exec& exec, const FullOrderConfig& config,
+                                               const mpm::ParticleInit& particles, rom::DeformationMapWeights map,
+                                               std::vector<float> xhat, const ReducedOptions& options) {
+  return std::make_unique<ReducedRun>(exec, config, particles, std::move(map), std::move(xhat), options);
+}
+
+}  // namespace romp::run

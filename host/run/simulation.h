@@ -1,0 +1,45 @@
+// Simulation: what the frame loop of `romp run` needs of an engine, so one loop (outputs, progress,
+// interrupts, checkpoints) serves the full-order and the reduced-order simulation alike.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "host/io/snapshot_layout.h"
+#include "host/reduced_sim.h"
+#include "host/sim_config.h"
+#include "kernels/core/exec.h"
+#include "kernels/mpm/particle_set.h"
+
+namespace romp::run {
+
+class Simulation {
+ public:
+  virtual ~Simulation() = default;
+  // Substeps until time() reaches t.
+  virtual void advance_to(double t) = 0;
+  // The state of every material point in the initial order; every field filled (a checkpoint needs them).
+  virtual io::FrameData capture() = 0;
+  virtual double time() const = 0;
+  virtual std::int64_t steps() const = 0;
+  virtual std::vector<std::pair<std::string, double>> stage_seconds() const = 0;
+  // Whether a checkpoint (a FrameData) is enough to continue this simulation.
+  virtual bool resumable() const = 0;
+};
+
+// The full-order engine from `particles`, its clock set to (time, steps) (non-zero when resumed).
+std::unique_ptr<Simulation> full_order_simulation(const Exec& exec, const FullOrderConfig& config,
+                                                  const mpm::ParticleInit& particles, double time = 0.0,
+                                                  std::int64_t steps = 0);
+
+// The reduced-order engine: its frames decode x, F and v at every material point from x̂ (C is 0,
+// the ROM carries no affine velocity). Not resumable from a frame: its state is x̂, v̂ and x̂ of the
+// substep before, which a particle checkpoint does not hold.
+std::unique_ptr<Simulation> reduced_simulation(const Exec& exec, const FullOrderConfig& config,
+                                               const mpm::ParticleInit& particles, rom::DeformationMapWeights map,
+                                               std::vector<float> xhat, const ReducedOptions& options);
+
+}  // namespace romp::run
