@@ -12,6 +12,7 @@
 #include "host/backend_selection.h"
 #include "host/build_info.h"
 #include "host/info_report.h"
+#include "host/run/position_error.h"
 #include "host/run/scene_runner.h"
 #include "host/run/stage_table.h"
 #include "host/run/sweep_runner.h"
@@ -82,6 +83,18 @@ int run_scene(romp::DeviceChoice choice, int threads, const std::string& path,
   return 0;
 }
 
+int compare(const std::string& run, const std::string& reference, bool per_frame) {
+  const romp::run::PositionError error = romp::run::compare_snapshots(run, reference);
+  if (per_frame) {
+    fmt::print("{:>6}  {:>12}  {:>16}\n", "frame", "time (s)", "position error %");
+    for (std::size_t k = 0; k < error.frame_percent.size(); ++k)
+      fmt::print("{:>6}  {:>12.6g}  {:>16.6g}\n", k, error.frame_times[k], error.frame_percent[k]);
+  }
+  fmt::print("{} against {}: accumulated position error {:.6g}% over {} frames of {} material points\n", run,
+             reference, error.percent, error.frame_percent.size(), error.particles);
+  return 0;
+}
+
 int sweep(const std::string& path, const romp::run::SweepOptions& options) {
   const romp::run::SweepSummary s = romp::run::run_sweep(path, options);
   fmt::print("sweep {}: {} members; rank {}/{} was assigned {}: {} already finished, {} run now, {} claimed by "
@@ -134,6 +147,17 @@ int main(int argc, char** argv) {
   sweep_command->add_option("-j,--jobs", sweep_options.jobs, "Members run at once on this machine")
       ->check(CLI::PositiveNumber);
 
+  CLI::App* compare_command =
+      app.add_subcommand("compare", "Position error (%) of a run against a reference run of the same scene (ROM paper)");
+  std::string compared_run, reference_run;
+  bool per_frame = false;
+  compare_command->add_option("run", compared_run, "Snapshot file (.h5) of the run to measure")->required()->check(
+      CLI::ExistingFile);
+  compare_command->add_option("reference", reference_run, "Snapshot file (.h5) of the reference (full-order) run")
+      ->required()
+      ->check(CLI::ExistingFile);
+  compare_command->add_flag("--frames", per_frame, "Also print the error of every frame");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -148,6 +172,7 @@ int main(int argc, char** argv) {
       fmt::print("{}", romp::info_report(romp::build_info(), romp::probe_cuda(), romp::nn::torch_info()));
       return 0;
     }
+    if (app.got_subcommand("compare")) return compare(compared_run, reference_run, per_frame);
     if (app.got_subcommand("sweep")) {
       sweep_options.run_arguments = {"--device", device, "--threads", std::to_string(threads), "--log-level", log_level};
       return sweep(scene_path, sweep_options);

@@ -1,0 +1,55 @@
+// Frame-by-frame comparison of two snapshot files by the ROM paper's position error.
+#include "host/run/position_error.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "host/io/snapshot_reader.h"
+#include "kernels/core/error.h"
+
+namespace romp::run {
+namespace {
+
+// Frame times this close (relative to the larger) are the same frame.
+constexpr double kTimeTolerance = 1e-9;
+
+}  // namespace
+
+PositionError compare_snapshots(const std::string& run, const std::string& reference) {
+  const io::SnapshotReader a(run), b(reference);
+  const std::string pair = fmt::format("{} against {}", run, reference);
+  if (a.particle_count() != b.particle_count())
+    throw Error(fmt::format("{}: {} material points against {}; compare runs of the same scene and sampling", pair,
+                            a.particle_count(), b.particle_count()));
+  if (a.header().X != b.header().X)
+    throw Error(fmt::format("{}: the material points' reference positions differ; compare runs of the same scene "
+                            "and sampling",
+                            pair));
+  if (a.frame_count() != b.frame_count())
+    throw Error(fmt::format("{}: {} frames against {}", pair, a.frame_count(), b.frame_count()));
+
+  PositionError result;
+  result.particles = a.particle_count();
+  double error_sum = 0.0, reference_sum = 0.0;
+  for (std::int64_t frame = 0; frame < a.frame_count(); ++frame) {
+    const double t = a.frame_time(frame), t_reference = b.frame_time(frame);
+    if (std::fabs(t - t_reference) > kTimeTolerance * std::fmax(1.0, std::fabs(t_reference)))
+      throw Error(fmt::format("{}: frame {} is at t = {} s against t = {} s", pair, frame, t, t_reference));
+    const std::vector<float> x = a.read_frame(frame).x, x_reference = b.read_frame(frame).x;
+    double frame_error = 0.0, frame_reference = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const double d = double(x[i]) - double(x_reference[i]);
+      frame_error += d * d;
+      frame_reference += double(x_reference[i]) * double(x_reference[i]);
+    }
+    error_sum += frame_error;
+    reference_sum += frame_reference;
+    result.frame_times.push_back(t);
+    result.frame_percent.push_back(100.0 * std::sqrt(frame_error / frame_reference));
+  }
+  result.percent = 100.0 * std::sqrt(error_sum / reference_sum);
+  return result;
+}
+
+}  // namespace romp::run

@@ -1,0 +1,24 @@
+// The ROM paper's accuracy measure (Sec. 5): the accumulated position error of a run against a
+// reference run of the same scene,
+//   error (%) = 100 √(Σ_{n,p} ‖x_run − x_ref‖²) / √(Σ_{n,p} ‖x_ref‖²),
+// summed over every frame n and material point p, and the same ratio per frame.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace romp::run {
+
+struct PositionError {
+  double percent = 0.0;                   // over all frames
+  std::vector<double> frame_percent;      // per frame
+  std::vector<double> frame_times;        // s
+  std::int64_t particles = 0;
+};
+
+// Compares two snapshot files frame by frame. They must hold the same material points (count and
+// reference positions) and the same frame times; throws romp::Error naming both files otherwise.
+PositionError compare_snapshots(const std::string& run, const std::string& reference);
+
+}  // namespace romp::run
