@@ -79,6 +79,7 @@ int run_scene(romp::DeviceChoice choice, int threads, const std::string& path,
   fmt::print("{}: {} particles, {} frames, {} substeps ({:.4g} s simulated) in {:.3f} s on {}\n", scene.name,
              r.particles, r.frames_written, r.substeps, r.simulated_seconds, r.wall_seconds,
              romp::to_string(exec.backend));
+  for (const std::string& line : r.diagnostics) fmt::print("{}\n", line);
   fmt::print("output: {}\n\n{}", r.output, romp::run::stage_table(r.stage_seconds));
   return 0;
 }

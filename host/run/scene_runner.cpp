@@ -158,6 +158,7 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   result.substeps = sim.steps() - steps_before;
   result.simulated_seconds = sim.time() - restored_time;
   result.stage_seconds = sim.stage_seconds();
+  result.diagnostics = sim.diagnostics();
   result.stage_seconds.emplace_back("output", output_seconds);
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -38,6 +38,7 @@ struct RunResult {
   double simulated_seconds = 0.0, wall_seconds = 0.0;
   bool interrupted = false;        // stopped by a signal or stop_at_frame; resumable
   std::vector<std::pair<std::string, double>> stage_seconds;
+  std::vector<std::string> diagnostics;  // the simulation's solver-health lines
 };
 
 // Throws scene::SceneError for unusable input, NonFiniteError (with the frames written so far

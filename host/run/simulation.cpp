@@ -1,6 +1,8 @@
 // The full-order and reduced-order engines behind the Simulation interface of the frame loop.
 #include "host/run/simulation.h"
 
+#include <fmt/format.h>
+
 #include "host/full_order_sim.h"
 
 namespace romp::run {
@@ -54,6 +56,19 @@ class ReducedRun final : public Simulation {
   std::int64_t steps() const override { return sim_.steps(); }
   std::vector<std::pair<std::string, double>> stage_seconds() const override { return sim_.stage_seconds(); }
   bool resumable() const override { return false; }
+  std::vector<std::string> diagnostics() const override {
+    std::vector<std::string> lines;
+    lines.push_back(fmt::format("reduced-order: {} substeps, {} position projections stopped unconverged",
+                                sim_.steps(), sim_.unconverged_projections()));
+    const std::int64_t points =
+        sim_.quadrature_points_used() + sim_.quadrature_points_outside() + sim_.quadrature_points_unconverged();
+    if (points > 0)
+      lines.push_back(fmt::format("Eulerian quadrature: {} points, {} used, {} outside the body, {} whose inversion "
+                                  "of g did not converge",
+                                  points, sim_.quadrature_points_used(), sim_.quadrature_points_outside(),
+                                  sim_.quadrature_points_unconverged()));
+    return lines;
+  }
 
  private:
   ReducedSim sim_;

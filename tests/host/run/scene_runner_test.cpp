@@ -81,6 +81,8 @@ TEST_F(SceneRunner, ReducedRunWritesTheDecodedStateOfEveryMaterialPoint) {
   const RunResult r = run_scene(Exec::cpu(), scene, o);
   EXPECT_EQ(r.frames_written, 8);
   EXPECT_FALSE(fs::exists(io::checkpoint_path(o.output)));
+  ASSERT_FALSE(r.diagnostics.empty());
+  EXPECT_NE(r.diagnostics[0].find("80 substeps"), std::string::npos) << r.diagnostics[0];
   const io::SnapshotReader reader(o.output);
   ASSERT_EQ(reader.frame_count(), 9);
   const std::vector<float>& X = reader.header().X;
