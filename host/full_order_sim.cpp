@@ -50,7 +50,12 @@ void FullOrderSim::substep(float dt) {
   const mpm::ParticleView particles = particles_.view();
   timed([&] { grid_.rebuild(exec_, Vec3Planes<const float>(particles.x)); });
   const mpm::GridView grid = grid_.view();
-  timed([&] { mpm::particle_to_grid(exec_, particles, grid, step); });
+  timed([&] {
+    if (config_.p2g == P2GKernel::Tiled)
+      mpm::particle_to_grid_tiled(exec_, particles, grid, step, particles_.block_starts());
+    else
+      mpm::particle_to_grid(exec_, particles, grid, step);
+  });
   timed([&] { mpm::update_grid(exec_, grid, step); });
   timed([&] { mpm::grid_to_particle(exec_, particles, grid, step); });
   if (inputs_.plastic()) timed([&] { mpm::project_plasticity(exec_, particles, step); });

@@ -34,6 +34,10 @@ struct RegionLoadSpec {
   double end = 0.0;
 };
 
+// How P2G reaches the grid: per particle and node (the portable reference), or per grid block through a
+// local tile of nodes (fewer atomics; see kernels/mpm/p2g_tiled.cu).
+enum class P2GKernel { Portable, Tiled };
+
 struct FullOrderConfig {
   float dx = 0.0f;
   std::array<std::int32_t, 3> domain_cells{0, 0, 0};  // the domain is [0, cells dx] per axis
@@ -46,6 +50,7 @@ struct FullOrderConfig {
   float cfl = 0.5f;        // Δt = cfl dx / (c + |v|max)
   float fixed_dt = 0.0f;   // > 0: use this Δt instead of the CFL condition
   float max_dt = 1e-3f;    // upper bound on the CFL step (a body at rest has |v| = 0)
+  P2GKernel p2g = P2GKernel::Tiled;
   std::vector<MaterialSpec> materials;
   std::vector<ColliderSpec> colliders;
   std::vector<DirichletSpec> dirichlet;

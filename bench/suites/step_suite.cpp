@@ -1,5 +1,6 @@
 // step suite: full-order MPM particle-substeps per second, with memory per particle, for the
-// jelly cube and the sand column of the neural-constitutive-law paper at 100k and 1M particles.
+// jelly cube and the sand column of the neural-constitutive-law paper at 100k and 1M particles, with
+// the portable and the tiled P2G side by side.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -23,7 +24,7 @@ struct StepCase {
 };
 
 // The body is resampled so that it holds about `particles` particles at 2 per cell per axis.
-FullOrderSim make_sim(const Exec& exec, const StepCase& c, Index particles) {
+FullOrderSim make_sim(const Exec& exec, const StepCase& c, Index particles, P2GKernel p2g) {
   const Vec3<float> extent = c.high - c.low;
   const float volume = extent[0] * extent[1] * extent[2];
   const float spacing = std::cbrt(volume / float(particles));
@@ -33,6 +34,7 @@ FullOrderSim make_sim(const Exec& exec, const StepCase& c, Index particles) {
   const std::int32_t cells = std::int32_t(std::ceil(1.0f / dx));
   config.domain_cells = {cells, cells, cells};
   config.materials = {nclaw_material(c.material)};
+  config.p2g = p2g;
   const geometry::SamplingSpec lattice{geometry::SamplingMethod::Lattice, kParticlesPerCellPerAxis, dx};
   mpm::ParticleInit init = geometry::sample_box(c.low, c.high, lattice, config.materials[0].density);
   for (Index p = 0; p < init.count(); ++p)
@@ -51,26 +53,29 @@ void run_step_suite(Context& context) {
     const Index particles = context.scaled(nominal, 1000);
     // Enough substeps per repeat that the per-substep host work is part of what is measured.
     const int substeps = nominal >= 1000000 ? 2 : 10;
-    for (const StepCase& c : cases) {
-      for (const Exec& exec : context.execs()) {
-        FullOrderSim sim = make_sim(exec, c, particles);
-        const float dt = sim.stable_dt();
-        const Index n = sim.particles().count();
-        const Measurement& m = context.time(
-            "step", fmt::format("{}_{}k", c.name, nominal / 1000), exec, n * substeps, "particle-substep",
-            [&] {
-              for (int s = 0; s < substeps; ++s) sim.substep(dt);
-            },
-            0.0, fmt::format("{} particles, dx = {:.4g} m", n, sim.config().dx));
-        const std::string where = fmt::format("step.{}.{}{}", m.name, m.backend, m.threads);
-        const double bytes = double(sim.particles().bytes() + sim.grid().bytes());
-        context.record(where + ".bytes_per_particle", bytes / double(n));
-        // Where a substep goes, over warm-up and timed repeats together.
-        double total = 0.0;
-        for (const auto& [stage, seconds] : sim.stage_seconds()) total += seconds;
-        for (const auto& [stage, seconds] : sim.stage_seconds()) context.record(where + ".share." + stage, seconds / total);
-      }
-    }
+    for (const StepCase& c : cases)
+      for (const Exec& exec : context.execs())
+        for (const P2GKernel p2g : {P2GKernel::Portable, P2GKernel::Tiled}) {
+          FullOrderSim sim = make_sim(exec, c, particles, p2g);
+          const float dt = sim.stable_dt();
+          const Index n = sim.particles().count();
+          const std::string kernel = p2g == P2GKernel::Tiled ? "tiled" : "portable";
+          const Measurement& m = context.time(
+              "step", fmt::format("{}_{}k_{}", c.name, nominal / 1000, kernel), exec, n * substeps,
+              "particle-substep",
+              [&] {
+                for (int s = 0; s < substeps; ++s) sim.substep(dt);
+              },
+              0.0, fmt::format("{} particles, dx = {:.4g} m, {} P2G", n, sim.config().dx, kernel));
+          const std::string where = fmt::format("step.{}.{}{}", m.name, m.backend, m.threads);
+          const double bytes = double(sim.particles().bytes() + sim.grid().bytes());
+          context.record(where + ".bytes_per_particle", bytes / double(n));
+          // Where a substep goes, over warm-up and timed repeats together.
+          double total = 0.0;
+          for (const auto& [stage, seconds] : sim.stage_seconds()) total += seconds;
+          for (const auto& [stage, seconds] : sim.stage_seconds())
+            context.record(where + ".share." + stage, seconds / total);
+        }
   }
 }
 

@@ -7,11 +7,14 @@
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
 #include "kernels/core/gather_planes.h"
+#include "kernels/core/memory.h"
 #include "kernels/mpm/bspline.h"
 #include "kernels/mpm/sparse_grid.h"
 
 #if defined(__CUDACC__)
 #include <cub/device/device_radix_sort.cuh>
+#include <cub/device/device_run_length_encode.cuh>
+#include <cub/device/device_scan.cuh>
 
 #include "kernels/core/cuda_check.h"
 #endif
@@ -59,6 +62,44 @@ void permute(const Exec& exec, DeviceBuffer<T>& planes, int components, const De
   DeviceBuffer<T> sorted(planes.backend(), planes.size());
   for_each(exec, order.size(), GatherPlanes<T>{planes.span(), order.size(), sorted.span(), order.span(), components});
   planes = std::move(sorted);
+}
+
+// The start of every run of equal keys in sorted `keys` and n at the end, into `starts` (n + 1 entries
+// suffice); returns the number of runs.
+Index run_starts(const Exec& exec, const DeviceBuffer<std::uint64_t>& keys, DeviceBuffer<std::int32_t>& starts) {
+  const Index n = keys.size();
+  if (exec.is_cuda()) {
+#if defined(__CUDACC__)
+    // Run lengths, then their exclusive sum over all n slots: entry `runs` is then Σ lengths = n.
+    DeviceBuffer<std::uint64_t> unique(keys.backend(), n);
+    DeviceBuffer<std::int32_t> lengths(keys.backend(), n + 1), runs(keys.backend(), 1);
+    lengths.fill_zero(exec.stream);
+    std::size_t bytes = 0;
+    ROMP_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(nullptr, bytes, keys.data(), unique.data(), lengths.data(),
+                                                       runs.data(), int(n), exec.stream));
+    DeviceBuffer<unsigned char> temporary(keys.backend(), Index(bytes));
+    ROMP_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(temporary.data(), bytes, keys.data(), unique.data(),
+                                                       lengths.data(), runs.data(), int(n), exec.stream));
+    const Index count = runs.to_host(exec.stream)[0];
+    // Entries past the runs hold whatever Encode left there: zero them so the sum stops growing at n.
+    memory::fill_zero(lengths.data() + count, keys.backend(), std::size_t(n + 1 - count) * sizeof(std::int32_t),
+                      exec.stream);
+    bytes = 0;
+    ROMP_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, lengths.data(), starts.data(), int(n + 1),
+                                                  exec.stream));
+    DeviceBuffer<unsigned char> scan_temporary(keys.backend(), Index(bytes));
+    ROMP_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(scan_temporary.data(), bytes, lengths.data(), starts.data(),
+                                                  int(n + 1), exec.stream));
+    return count;
+#else
+    throw Error("run_starts on CUDA from a translation unit not compiled by nvcc");
+#endif
+  }
+  Index count = 0;
+  for (Index p = 0; p < n; ++p)
+    if (p == 0 || keys.data()[p] != keys.data()[p - 1]) starts.data()[count++] = std::int32_t(p);
+  starts.data()[count] = std::int32_t(n);
+  return count;
 }
 
 void sort_pairs(const Exec& exec, DeviceBuffer<std::uint64_t>& keys, DeviceBuffer<std::int32_t>& order,
@@ -150,6 +191,9 @@ void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
   DeviceBuffer<std::int32_t> order(backend_, n);
   for_each(exec, n, BlockKeyOfParticle{Vec3Planes<const float>(x_.data(), n), keys.span(), order.span(), inverse_dx});
   sort_pairs(exec, keys, order, id_);
+  if (!exec.is_cuda()) permute(exec, keys, 1, order);  // the CPU sort orders `order` alone
+  if (block_starts_.size() < n + 1) block_starts_ = DeviceBuffer<std::int32_t>(backend_, n + 1);
+  block_count_ = run_starts(exec, keys, block_starts_);
   permute(exec, x_, 3, order);
   permute(exec, v_, 3, order);
   permute(exec, C_, 9, order);

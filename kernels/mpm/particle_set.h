@@ -50,6 +50,11 @@ class ParticleSet {
   // by initial index, so the order is a function of the positions alone and a run resumed from a
   // checkpoint sums particle contributions in the same order as the uninterrupted run.
   void sort_by_block(const Exec& exec, float inverse_dx);
+  // After sort_by_block: where each block's run of particles starts, and the particle count at the
+  // end (blocks + 1 entries, increasing). The tiled P2G gives each run to one worker.
+  Span<const std::int32_t> block_starts() const {
+    return Span<const std::int32_t>(block_starts_.data(), block_count_ + 1);
+  }
 
   // Copies of the state in the order of the initial particles (undoing sort_by_block).
   std::vector<float> positions_in_initial_order(const Exec& exec) const;
@@ -64,6 +69,8 @@ class ParticleSet {
   Index count_;
   DeviceBuffer<float> x_, v_, C_, F_, mass_, volume0_;
   DeviceBuffer<std::int32_t> material_, dirichlet_group_, id_;
+  DeviceBuffer<std::int32_t> block_starts_;
+  Index block_count_ = 0;
 };
 
 }  // namespace romp::mpm

@@ -70,6 +70,11 @@ struct StepParams {
 };
 
 void particle_to_grid(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step);
+// The same P2G by grid block (p2g_tiled.cu): each block's particles add into a local tile of nodes
+// that reaches the grid once. The particles must be sorted by block (ParticleSet::sort_by_block) and
+// `block_starts` be that sort's runs; the result equals particle_to_grid's up to float rounding.
+void particle_to_grid_tiled(const Exec& exec, const ParticleView& particles, const GridView& grid,
+                            const StepParams& step, Span<const std::int32_t> block_starts);
 void update_grid(const Exec& exec, const GridView& grid, const StepParams& step);
 void grid_to_particle(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step);
 // The return map of each plastic material, on particles not in a Dirichlet group.

@@ -1,0 +1,46 @@
+// What one particle scatters in P2G, computed once and shared by the portable kernel (atomics on the
+// grid per node) and the tiled kernel (a block's nodes accumulated locally first).
+#pragma once
+
+#include "kernels/core/atomic.h"
+#include "kernels/material/material.h"
+#include "kernels/math/finite.h"
+#include "kernels/mpm/bspline.h"
+#include "kernels/mpm/particle_set.h"
+#include "kernels/mpm/sparse_grid.h"
+#include "kernels/mpm/step.h"
+
+namespace romp::mpm {
+
+struct P2GParticle {
+  QuadraticStencil<float> stencil;
+  float mass;
+  Vec3<float> momentum;  // m v, plus this substep's load impulses
+  Mat3<float> affine;    // APIC's m C and the MLS stress impulse, applied through (x_i − x_p)
+  Vec3<float> v;         // for PIC/FLIP's velocity before forces
+
+  ROMP_HD P2GParticle(const ParticleView& particles, const GridView& grid, const StepParams& step, Index p)
+      : stencil(particles.x.load(p), grid.inverse_dx), mass(particles.mass[p]), v(particles.v.load(p)) {
+    const Vec3<float> x = particles.x.load(p);
+    const Mat3<float> F = particles.F.load(p);
+    const material::MaterialParams<float>& params = step.materials[particles.material[p]];
+    const Mat3<float> P = material::first_piola(params, F);
+    if (!is_finite(P)) atomic_min(&step.first_failure[int(Stage::P2G)], std::int64_t(p));
+    // MLS-MPM (Hu et al. 2018, Eq. 16 with D^-1 = 4/dx^2): the internal force enters as the affine
+    // impulse -dt V0 D^-1 P F^T, applied through the same (x_i - x_p) moments as APIC's C.
+    const float d_inverse = kInverseInertiaScale * grid.inverse_dx * grid.inverse_dx;
+    affine = (-step.dt * particles.volume0[p] * d_inverse) * times_transpose(P, F);
+    if (step.transfer == Transfer::Apic) affine += mass * particles.C.load(p);
+    momentum = mass * v;
+    for (Index l = 0; l < step.loads.size(); ++l)
+      if (step.loads[l].contains(x)) momentum += (mass * step.dt) * step.loads[l].acceleration;
+  }
+
+  // The weight of node base + (i, j, k) and the momentum it receives.
+  ROMP_HD float weight(int i, int j, int k) const { return stencil.weight(i, j, k); }
+  ROMP_HD Vec3<float> momentum_to(int i, int j, int k, float w, float dx) const {
+    return w * (momentum + affine * stencil.offset(i, j, k, dx));
+  }
+};
+
+}  // namespace romp::mpm
