@@ -16,6 +16,28 @@ constexpr double kTimeTolerance = 1e-9;
 
 }  // namespace
 
+void PositionErrorAccumulator::add_frame(double t, const std::vector<float>& x, const std::vector<float>& reference) {
+  ROMP_CHECK(x.size() == reference.size() && x.size() % 3 == 0,
+             fmt::format("positions of {} and {} values cannot be compared", x.size(), reference.size()));
+  double frame_error = 0.0, frame_reference = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double d = double(x[i]) - double(reference[i]);
+    frame_error += d * d;
+    frame_reference += double(reference[i]) * double(reference[i]);
+  }
+  error_sum_ += frame_error;
+  reference_sum_ += frame_reference;
+  partial_.particles = std::int64_t(x.size() / 3);
+  partial_.frame_times.push_back(t);
+  partial_.frame_percent.push_back(100.0 * std::sqrt(frame_error / frame_reference));
+}
+
+PositionError PositionErrorAccumulator::result() const {
+  PositionError result = partial_;
+  result.percent = 100.0 * std::sqrt(error_sum_ / reference_sum_);
+  return result;
+}
+
 PositionError compare_snapshots(const std::string& run, const std::string& reference) {
   const io::SnapshotReader a(run), b(reference);
   const std::string pair = fmt::format("{} against {}", run, reference);
@@ -29,27 +51,14 @@ PositionError compare_snapshots(const std::string& run, const std::string& refer
   if (a.frame_count() != b.frame_count())
     throw Error(fmt::format("{}: {} frames against {}", pair, a.frame_count(), b.frame_count()));
 
-  PositionError result;
-  result.particles = a.particle_count();
-  double error_sum = 0.0, reference_sum = 0.0;
+  PositionErrorAccumulator accumulator;
   for (std::int64_t frame = 0; frame < a.frame_count(); ++frame) {
     const double t = a.frame_time(frame), t_reference = b.frame_time(frame);
     if (std::fabs(t - t_reference) > kTimeTolerance * std::fmax(1.0, std::fabs(t_reference)))
       throw Error(fmt::format("{}: frame {} is at t = {} s against t = {} s", pair, frame, t, t_reference));
-    const std::vector<float> x = a.read_frame(frame).x, x_reference = b.read_frame(frame).x;
-    double frame_error = 0.0, frame_reference = 0.0;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      const double d = double(x[i]) - double(x_reference[i]);
-      frame_error += d * d;
-      frame_reference += double(x_reference[i]) * double(x_reference[i]);
-    }
-    error_sum += frame_error;
-    reference_sum += frame_reference;
-    result.frame_times.push_back(t);
-    result.frame_percent.push_back(100.0 * std::sqrt(frame_error / frame_reference));
+    accumulator.add_frame(t, a.read_frame(frame).x, b.read_frame(frame).x);
   }
-  result.percent = 100.0 * std::sqrt(error_sum / reference_sum);
-  return result;
+  return accumulator.result();
 }
 
 }  // namespace romp::run

@@ -17,6 +17,18 @@ struct PositionError {
   std::int64_t particles = 0;
 };
 
+// Sums the error frame by frame, for runs held in memory (romp-bench) or read from files.
+class PositionErrorAccumulator {
+ public:
+  // One frame's positions (3 planes of the same material points, same order) at time t.
+  void add_frame(double t, const std::vector<float>& x, const std::vector<float>& reference);
+  PositionError result() const;
+
+ private:
+  PositionError partial_;
+  double error_sum_ = 0.0, reference_sum_ = 0.0;
+};
+
 // Compares two snapshot files frame by frame. They must hold the same material points (count and
 // reference positions) and the same frame times; throws romp::Error naming both files otherwise.
 PositionError compare_snapshots(const std::string& run, const std::string& reference);
