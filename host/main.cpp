@@ -34,14 +34,11 @@ constexpr int kExitInterrupted = 130;
 
 // "--set name=value" pairs as parameter overrides.
 romp::scene::ParameterValues parse_overrides(const std::vector<std::string>& sets) {
-  romp::scene::ParameterValues values;
-  for (const std::string& set : sets) {
-    const std::size_t equals = set.find('=');
-    if (equals == std::string::npos || equals == 0)
-      throw CLI::ValidationError("--set", "expected name=value, got '" + set + "'");
-    values[set.substr(0, equals)] = romp::scene::evaluate_expression(set.substr(equals + 1), {});
+  try {
+    return romp::scene::parse_assignments(sets);
+  } catch (const romp::Error& error) {
+    throw CLI::ValidationError("--set", error.what());
   }
-  return values;
 }
 
 int check_scene(const std::string& path, const romp::scene::ParameterValues& overrides) {

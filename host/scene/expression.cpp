@@ -164,4 +164,15 @@ double evaluate_expression(const std::string& text, const ParameterValues& param
   return Parser(text, parameters).parse();
 }
 
+ParameterValues parse_assignments(const std::vector<std::string>& assignments) {
+  ParameterValues values;
+  for (const std::string& assignment : assignments) {
+    const std::size_t equals = assignment.find('=');
+    if (equals == std::string::npos || equals == 0)
+      throw Error(fmt::format("expected name=value, got '{}'", assignment));
+    values[assignment.substr(0, equals)] = evaluate_expression(assignment.substr(equals + 1), {});
+  }
+  return values;
+}
+
 }  // namespace romp::scene

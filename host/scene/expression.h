@@ -4,6 +4,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 namespace romp::scene {
 
@@ -14,5 +15,9 @@ using ParameterValues = std::map<std::string, double>;
 // radians degrees. Throws romp::Error naming the column and the offending token, or the unknown name
 // and the parameters that exist.
 double evaluate_expression(const std::string& text, const ParameterValues& parameters);
+
+// "name=value" assignments (the command line's --set), each value an expression without parameters.
+// Throws romp::Error naming the assignment that is not of that form.
+ParameterValues parse_assignments(const std::vector<std::string>& assignments);
 
 }  // namespace romp::scene
