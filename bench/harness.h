@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,10 @@ struct Options {
   std::vector<int> cpu_threads{1, 2};
   bool use_cuda = false;            // measure on the CUDA device as well as the CPU
   int cuda_device = 0;
+  // The rom suite's case: a scene, its parameter overrides, and a model trained on the scene's sweep.
+  std::string scene;
+  std::map<std::string, double> parameters;
+  std::string rom_model;
 };
 
 // One timed case: `items` units of work per repeat (SVDs, particle-substeps, bytes, ...).

@@ -12,6 +12,7 @@
 #include "bench/harness.h"
 #include "bench/report.h"
 #include "bench/suites/suites.h"
+#include "host/scene/expression.h"
 #include "host/backend_selection.h"
 
 namespace {
@@ -59,6 +60,11 @@ int main(int argc, char** argv) {
   app.add_option("--scale", options.scale, "Multiplies every problem size")->check(CLI::PositiveNumber);
   app.add_option("--out", out_directory, "Folder for the CSV and JSON records");
   app.add_option("--name", stem, "File stem of the records (default: bench-<UTC time>)");
+  std::vector<std::string> sets;
+  app.add_option("--scene", options.scene, "rom suite: the scene file")->check(CLI::ExistingFile);
+  app.add_option("--set", sets, "rom suite: override a declared scene parameter, name=value (repeatable)");
+  app.add_option("--rom-model", options.rom_model, "rom suite: a model trained on the scene's sweep (romp train-rom)")
+      ->check(CLI::ExistingFile);
   app.add_flag_callback("--list", [] {
     for (const Suite& suite : kSuites) fmt::print("{:<10} {}\n", suite.name, suite.summary);
     throw CLI::Success();
@@ -66,6 +72,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   try {
+    options.parameters = romp::scene::parse_assignments(sets);
     const romp::DeviceChoice choice = romp::parse_device_choice(device);
     const romp::Exec exec = romp::select_backend(choice);
     options.use_cuda = exec.is_cuda();
