@@ -70,7 +70,9 @@ struct EulerianPoint {
     Vec3<float> X = X_guess.load(i);
     std::int32_t status = kQuadratureUnconverged;
     int material = -1;
-    if (invert(target, X)) {
+    if (!occupancy.near(X, options.outside_margin)) {
+      status = kQuadratureOutside;
+    } else if (invert(target, X)) {
       material = occupancy.material_at(X);
       status = material >= 0 ? kQuadratureUsed : kQuadratureOutside;
     }

@@ -34,12 +34,33 @@ struct ReferenceOccupancy {
     }
     return material_plus_one[(Index(cell[2]) * cells[1] + cell[1]) * cells[0] + cell[0]] - 1;
   }
+
+  // Whether any cell within `margin` cells of X (per axis) holds material.
+  ROMP_HD bool near(const Vec3<float>& X, int margin) const {
+    int low[3], high[3];
+    for (int a = 0; a < 3; ++a) {
+      const float c = (X[a] - origin[a]) * inverse_h;
+      if (!(c > -float(margin) && c < float(cells[a] + margin))) return false;  // also rejects NaN
+      const int cell = int(c < 0.0f ? c - 1.0f : c);  // floor
+      low[a] = cell - margin < 0 ? 0 : cell - margin;
+      high[a] = cell + margin >= cells[a] ? cells[a] - 1 : cell + margin;
+    }
+    for (int k = low[2]; k <= high[2]; ++k)
+      for (int j = low[1]; j <= high[1]; ++j)
+        for (int i = low[0]; i <= high[0]; ++i)
+          if (material_plus_one[(Index(k) * cells[1] + j) * cells[0] + i] != 0) return true;
+    return false;
+  }
 };
 
 // How g is inverted: damped Newton, X ← X − α F⁻¹ (g(X) − x), α halved until the residual falls.
 struct InversionOptions {
   int iterations = 20;
   float tolerance = 0.0f;  // m: converged when |g(X) − x| ≤ tolerance
+  // A point whose first guess lies farther than this many occupancy cells from any material is dropped
+  // without inverting g: most points of the cells around a sample lie outside the body, and the guess
+  // (g linearised at the sample) is off by far less than this near it.
+  int outside_margin = 3;
 };
 
 // What happened to each quadrature point.
