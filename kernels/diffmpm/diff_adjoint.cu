@@ -39,17 +39,12 @@ struct GridToParticleAdjoint {
     const Mat3<T> B_bar_t = transpose(B_bar);
 
     const StencilGradient<T> gradient(stencil, inverse_dx(step));
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k) {
-          const T w = stencil.weight(i, j, k);
-          const Index n = stencil_node(grid, stencil, i, j, k);
-          const Vec3<T> d = stencil.offset(i, j, k, step.dx);
-          const Vec3<T> v_node = grid.velocity.load(n);
-          const Vec3<T> node_bar = v_bar + B_bar * d;
-          atomic_add(grid.velocity_adjoint, n, w * node_bar);
-          x_bar += dot(node_bar, v_node) * gradient(stencil, i, j, k) - w * (B_bar_t * v_node);
-        }
+    for_each_stencil_node(step, grid, stencil, [&](const StencilNode<T>& node) {
+      const Vec3<T> v_node = grid.velocity.load(node.index);
+      const Vec3<T> node_bar = v_bar + B_bar * node.offset;
+      atomic_add(grid.velocity_adjoint, node.index, node.weight * node_bar);
+      x_bar += dot(node_bar, v_node) * gradient(stencil, node) - node.weight * (B_bar_t * v_node);
+    });
     in_adjoint.x.store(p, x_bar);
   }
 };
@@ -63,18 +58,14 @@ struct UpdateGridAdjoint {
   DenseGridView<T> grid;
 
   ROMP_HD void operator()(Index n) const {
-    const T mass = grid.mass[n];
     Vec3<T> momentum_bar = Vec3<T>::zero();
     T mass_bar = T(0);
-    if (mass > T(0)) {
-      int node[3];
-      grid.coordinates(n, node);
-      const T inverse_mass = T(1) / mass;
-      const Vec3<T> v_transferred = grid.momentum.load(n) * inverse_mass;
-      const Vec3<T> v_free = v_transferred + step.dt * step.gravity;
-      const Vec3<T> v_free_bar = hadamard(wall_mask(step, node, v_free), grid.velocity_adjoint.load(n));
+    if (grid.mass[n] > T(0)) {
+      const NodeVelocity<T> node = node_velocity(step, grid, n);
+      const T inverse_mass = T(1) / grid.mass[n];
+      const Vec3<T> v_free_bar = hadamard(node.kept, grid.velocity_adjoint.load(n));
       momentum_bar = inverse_mass * v_free_bar;
-      mass_bar = -dot(v_free_bar, v_transferred) * inverse_mass;
+      mass_bar = -dot(v_free_bar, node.transferred) * inverse_mass;
     }
     grid.velocity_adjoint.store(n, momentum_bar);
     grid.mass_adjoint[n] = mass_bar;
@@ -103,18 +94,14 @@ struct ParticleToGridAdjoint {
     Vec3<T> x_bar = in_adjoint.x.load(p);
     Vec3<T> momentum_bar = Vec3<T>::zero();
     Mat3<T> affine_bar = Mat3<T>::zero();
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k) {
-          const T w = stencil.weight(i, j, k);
-          const Index n = stencil_node(grid, stencil, i, j, k);
-          const Vec3<T> d = stencil.offset(i, j, k, step.dx);
-          const Vec3<T> node_bar = grid.velocity_adjoint.load(n);
-          momentum_bar += w * node_bar;
-          affine_bar += Mat3<T>::outer(w * node_bar, d);
-          x_bar += (dot(node_bar, momentum + affine * d) + mass * grid.mass_adjoint[n]) * gradient(stencil, i, j, k) -
-                   w * (affine_t * node_bar);
-        }
+    for_each_stencil_node(step, grid, stencil, [&](const StencilNode<T>& node) {
+      const Vec3<T> node_bar = grid.velocity_adjoint.load(node.index);
+      momentum_bar += node.weight * node_bar;
+      affine_bar += Mat3<T>::outer(node.weight * node_bar, node.offset);
+      x_bar += (dot(node_bar, momentum + affine * node.offset) + mass * grid.mass_adjoint[node.index]) *
+                   gradient(stencil, node) -
+               node.weight * (affine_t * node_bar);
+    });
     const T k = stress_factor(step, in, p);
     in_adjoint.x.store(p, x_bar);
     in_adjoint.v.store(p, mass * momentum_bar);

@@ -26,14 +26,10 @@ struct ParticleToGrid {
     const Mat3<T> affine = particle_affine(step, in, p);
     const Vec3<T> momentum = mass * in.v.load(p);
     const mpm::QuadraticStencil<T> stencil(in.x.load(p), inverse_dx(step));
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k) {
-          const T w = stencil.weight(i, j, k);
-          const Index n = stencil_node(grid, stencil, i, j, k);
-          romp::atomic_add(&grid.mass[n], w * mass);
-          atomic_add(grid.momentum, n, w * (momentum + affine * stencil.offset(i, j, k, step.dx)));
-        }
+    for_each_stencil_node(step, grid, stencil, [&](const StencilNode<T>& node) {
+      romp::atomic_add(&grid.mass[node.index], node.weight * mass);
+      atomic_add(grid.momentum, node.index, node.weight * (momentum + affine * node.offset));
+    });
   }
 };
 
@@ -45,13 +41,10 @@ struct UpdateGrid {
   DenseGridView<T> grid;
 
   ROMP_HD void operator()(Index n) const {
-    const T mass = grid.mass[n];
     Vec3<T> v = Vec3<T>::zero();
-    if (mass > T(0)) {
-      int node[3];
-      grid.coordinates(n, node);
-      const Vec3<T> v_free = grid.momentum.load(n) * (T(1) / mass) + step.dt * step.gravity;
-      v = hadamard(wall_mask(step, node, v_free), v_free);
+    if (grid.mass[n] > T(0)) {
+      const NodeVelocity<T> node = node_velocity(step, grid, n);
+      v = hadamard(node.kept, node.free);
     }
     grid.velocity.store(n, v);
   }

@@ -31,11 +31,25 @@ ROMP_HD_INLINE Mat3<T> particle_affine(const StepParams<T>& step, const Particle
   return stress_factor(step, in, p) * times_transpose(in.P.load(p), in.F.load(p)) + in.mass[p] * in.C.load(p);
 }
 
-// The node index of stencil entry (i, j, k).
+// One of the 27 nodes of a particle's stencil: entry (i, j, k), its grid index, weight w and
+// offset d = x_node − x_particle.
 template <class T>
-ROMP_HD_INLINE Index stencil_node(const DenseGridView<T>& grid, const mpm::QuadraticStencil<T>& stencil, int i, int j,
-                                  int k) {
-  return grid.index(stencil.base[0] + i, stencil.base[1] + j, stencil.base[2] + k);
+struct StencilNode {
+  int i, j, k;
+  Index index;
+  T weight;
+  Vec3<T> offset;
+};
+
+// Calls visit(StencilNode<T>) for each node of `stencil`: the loop every transfer and its adjoint run.
+template <class T, class Visit>
+ROMP_HD_INLINE void for_each_stencil_node(const StepParams<T>& step, const DenseGridView<T>& grid,
+                                          const mpm::QuadraticStencil<T>& stencil, const Visit& visit) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k)
+        visit(StencilNode<T>{i, j, k, grid.index(stencil.base[0] + i, stencil.base[1] + j, stencil.base[2] + k),
+                             stencil.weight(i, j, k), stencil.offset(i, j, k, step.dx)});
 }
 
 // ∂w_ijk/∂x_p of the quadratic B-spline weights. Per axis, with f the offset from the base node in
@@ -54,7 +68,8 @@ struct StencilGradient {
     }
   }
 
-  ROMP_HD Vec3<T> operator()(const mpm::QuadraticStencil<T>& s, int i, int j, int k) const {
+  ROMP_HD Vec3<T> operator()(const mpm::QuadraticStencil<T>& s, const StencilNode<T>& node) const {
+    const int i = node.i, j = node.j, k = node.k;
     return Vec3<T>(dw[0][i] * s.w[1][j] * s.w[2][k], s.w[0][i] * dw[1][j] * s.w[2][k],
                    s.w[0][i] * s.w[1][j] * dw[2][k]);
   }
@@ -77,6 +92,24 @@ ROMP_HD_INLINE Vec3<T> wall_mask(const StepParams<T>& step, const int node[3], c
   return keep;
 }
 
+// A massive node's velocity in the grid update: transferred q_i / m_i, free (plus dt g) and the
+// wall mask of the free velocity; the update's result is hadamard(kept, free).
+template <class T>
+struct NodeVelocity {
+  Vec3<T> transferred, free, kept;
+};
+
+template <class T>
+ROMP_HD_INLINE NodeVelocity<T> node_velocity(const StepParams<T>& step, const DenseGridView<T>& grid, Index n) {
+  int node[3];
+  grid.coordinates(n, node);
+  NodeVelocity<T> out;
+  out.transferred = grid.momentum.load(n) * (T(1) / grid.mass[n]);
+  out.free = out.transferred + step.dt * step.gravity;
+  out.kept = wall_mask(step, node, out.free);
+  return out;
+}
+
 // The grid velocity gathered at a particle: v = Σ w v_i and C = D⁻¹ Σ w v_i (x_i − x_p)ᵀ (APIC).
 template <class T>
 struct GatheredVelocity {
@@ -88,13 +121,11 @@ template <class T>
 ROMP_HD_INLINE GatheredVelocity<T> gather_velocity(const StepParams<T>& step, const DenseGridView<T>& grid,
                                                    const mpm::QuadraticStencil<T>& stencil) {
   GatheredVelocity<T> out{Vec3<T>::zero(), Mat3<T>::zero()};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) {
-        const Vec3<T> wv = stencil.weight(i, j, k) * grid.velocity.load(stencil_node(grid, stencil, i, j, k));
-        out.v += wv;
-        out.C += Mat3<T>::outer(wv, stencil.offset(i, j, k, step.dx));
-      }
+  for_each_stencil_node(step, grid, stencil, [&](const StencilNode<T>& node) {
+    const Vec3<T> wv = node.weight * grid.velocity.load(node.index);
+    out.v += wv;
+    out.C += Mat3<T>::outer(wv, node.offset);
+  });
   out.C *= inverse_inertia(step);
   return out;
 }
