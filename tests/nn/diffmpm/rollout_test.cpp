@@ -61,9 +61,11 @@ struct RandomLoss {
   torch::Tensor positions, v, C, F;
 };
 
-void expect_gradient(const char* name, const torch::Tensor& tensor, const std::function<double()>& loss) {
+// Checks every `stride`-th entry of `tensor` (all of them by default).
+void expect_gradient(const char* name, const torch::Tensor& tensor, const std::function<double()>& loss,
+                     int64_t stride = 1) {
   ASSERT_TRUE(tensor.grad().defined()) << name;
-  const double error = test::finite_difference_error(tensor, tensor.grad(), loss);
+  const double error = test::finite_difference_error(tensor, tensor.grad(), loss, 1e-6, stride);
   std::printf("d loss / d %s: max relative error %.3g\n", name, error);
   EXPECT_LE(error, kGradientTolerance) << "gradient with respect to " << name;
 }
@@ -131,8 +133,9 @@ TEST(DiffMpm, NeuralLawRolloutGradientsMatchCentralDifferences) {
   const auto loss = [&] { return weights(rollout(scene.sim, scene.initial, laws, options)); };
   loss().backward();
   const auto value = [&] { return loss().item<double>(); };
-  expect_gradient("elastic first layer", elastic->parameters().front(), value);
-  expect_gradient("plastic first layer", plastic->parameters().front(), value);
+  // 60 of the 832 weights of each first layer: every 14th, which cycles through the 13 inputs.
+  expect_gradient("elastic first layer", elastic->parameters().front(), value, 14);
+  expect_gradient("plastic first layer", plastic->parameters().front(), value, 14);
 }
 
 // Recomputing segments of 2 substeps from checkpoints gives the full graph's loss and gradients.

@@ -36,7 +36,17 @@ TrainingOptions short_training(int64_t epochs, int64_t steps) {
   return options;
 }
 
-TEST(LawTrainer, ShortTrainingLowersTheLoss) {
+// One CPU thread: the P2G scatter's float sums are then in one fixed order, so every run trains
+// the same weights.
+class LawTraining : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    omp_set_num_threads(1);
+    torch::set_num_threads(1);
+  }
+};
+
+TEST_F(LawTraining, ShortTrainingLowersTheLoss) {
   const test::TinyGroundTruth truth = test::tiny_ground_truth(40);
   LawTrainer trainer(truth.config, truth.trajectory, short_training(8, 40));
   while (!trainer.finished()) {
@@ -54,10 +64,7 @@ std::vector<torch::Tensor> weights(const LawTrainer& trainer) {
   return copies;
 }
 
-// One CPU thread: the P2G scatter's float sums are then in one fixed order.
-TEST(LawTrainer, ResumingFromACheckpointIsBitwiseUninterrupted) {
-  omp_set_num_threads(1);
-  torch::set_num_threads(1);
+TEST_F(LawTraining, ResumingFromACheckpointIsBitwiseUninterrupted) {
   const romp::test::ScratchFolder folder;
   const test::TinyGroundTruth truth = test::tiny_ground_truth(20);
   const TrainingOptions options = short_training(4, 20);
@@ -83,7 +90,7 @@ TEST(LawTrainer, ResumingFromACheckpointIsBitwiseUninterrupted) {
   for (size_t i = 0; i < expected.size(); ++i) EXPECT_TRUE(torch::equal(result[i], expected[i])) << "weight " << i;
 }
 
-TEST(LawTrainer, RejectsACheckpointOfOtherOptions) {
+TEST_F(LawTraining, RejectsACheckpointOfOtherOptions) {
   const romp::test::ScratchFolder folder;
   const test::TinyGroundTruth truth = test::tiny_ground_truth(10);
   const std::string checkpoint = folder.file("law.h5.checkpoint");
@@ -93,7 +100,7 @@ TEST(LawTrainer, RejectsACheckpointOfOtherOptions) {
   EXPECT_THROW(other.load_checkpoint(folder.write("garbage.checkpoint", "not an archive")), Error);
 }
 
-TEST(LawTrainer, RejectsATrajectoryShorterThanTheRollout) {
+TEST_F(LawTraining, RejectsATrajectoryShorterThanTheRollout) {
   const test::TinyGroundTruth truth = test::tiny_ground_truth(5);
   EXPECT_THROW(LawTrainer(truth.config, truth.trajectory, short_training(1, 10)), Error);
 }
