@@ -8,9 +8,8 @@
 #include "kernels/core/error.h"
 
 namespace romp::nclaw {
-namespace {
 
-nn::DiffMpmConfig simulation_config(const scene::Scene& s, const std::string& label) {
+nn::DiffMpmConfig differentiable_config(const scene::Scene& s, const std::string& label) {
   const auto require = [&](bool condition, const std::string& what) {
     if (!condition) throw Error(fmt::format("{}: its scene {}; the differentiable step cannot reproduce it", label, what));
   };
@@ -30,6 +29,8 @@ nn::DiffMpmConfig simulation_config(const scene::Scene& s, const std::string& la
   config.walls = s.wall_contact;
   return config;
 }
+
+namespace {
 
 // Copies one field of every frame into a [frames, components, n] tensor.
 torch::Tensor stack_field(const std::vector<io::FrameData>& frames, io::FieldMask field, int components) {
@@ -59,7 +60,7 @@ GroundTruth read_ground_truth(const std::string& path, int64_t last_frame) {
                             reader.frame_count()));
 
   GroundTruth truth;
-  truth.config = simulation_config(scene::parse_scene(reader.header().scene, path), label);
+  truth.config = differentiable_config(scene::parse_scene(reader.header().scene, path), label);
   std::vector<io::FrameData> data;
   data.reserve(size_t(frames));
   for (int64_t k = 0; k < frames; ++k) {

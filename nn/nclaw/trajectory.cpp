@@ -1,4 +1,4 @@
-// Trajectory: shape, dtype and device checks, and conversion.
+// Trajectory: shape, dtype and device checks, conversion, and simulation under a known law.
 #include "nn/nclaw/trajectory.h"
 
 #include <string>
@@ -31,6 +31,20 @@ void Trajectory::validate() const {
 Trajectory Trajectory::to(const torch::Device& device, torch::ScalarType dtype) const {
   const auto convert = [&](const torch::Tensor& t) { return t.to(device, dtype).contiguous(); };
   return {convert(mass), convert(volume), convert(x), convert(v), convert(C), convert(F)};
+}
+
+Trajectory simulate(const DiffMpm& sim, const MpmState& initial, const ConstitutiveLaws& laws, int64_t steps) {
+  torch::NoGradGuard no_grad;
+  std::vector<torch::Tensor> x{initial.x}, v{initial.v}, C{initial.C}, F{initial.F};
+  MpmState state = initial;
+  for (int64_t s = 0; s < steps; ++s) {
+    state = rollout(sim, state, laws, {1, 0}).final_state;
+    x.push_back(state.x);
+    v.push_back(state.v);
+    C.push_back(state.C);
+    F.push_back(state.F);
+  }
+  return {sim.mass(), sim.volume(), torch::stack(x), torch::stack(v), torch::stack(C), torch::stack(F)};
 }
 
 }  // namespace romp::nn

@@ -4,6 +4,7 @@
 #include <torch/torch.h>
 
 #include "nn/diffmpm/mpm_step.h"
+#include "nn/diffmpm/rollout.h"
 
 namespace romp::nn {
 
@@ -20,5 +21,9 @@ struct Trajectory {
   void validate() const;
   Trajectory to(const torch::Device& device, torch::ScalarType dtype) const;
 };
+
+// The trajectory of `steps` substeps from `initial` under `laws`, without gradients: ground truth
+// from a known law (tests, benchmarks, the oracles), or a learned law's prediction.
+Trajectory simulate(const DiffMpm& sim, const MpmState& initial, const ConstitutiveLaws& laws, int64_t steps);
 
 }  // namespace romp::nn

@@ -36,17 +36,7 @@ inline TinyGroundTruth tiny_ground_truth(int64_t steps) {
   const MpmState initial{x, v, torch::zeros({9, n}, f32), torch::eye(3, f32).reshape({9, 1}).expand({9, n}).contiguous()};
   const torch::Tensor youngs = torch::tensor(1e4, f32), poisson = torch::tensor(0.3, f32);
   const ConstitutiveLaws law{[&](const torch::Tensor& F) { return fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
-
-  std::vector<MpmState> frames{initial};
-  for (int64_t s = 0; s < steps; ++s) frames.push_back(rollout(sim, frames.back(), law, {1, 0}).final_state);
-  std::vector<torch::Tensor> xs, vs, Cs, Fs;
-  for (const MpmState& state : frames) {
-    xs.push_back(state.x);
-    vs.push_back(state.v);
-    Cs.push_back(state.C);
-    Fs.push_back(state.F);
-  }
-  return {config, {1e3 * volume, volume, torch::stack(xs), torch::stack(vs), torch::stack(Cs), torch::stack(Fs)}};
+  return {config, simulate(sim, initial, law, steps)};
 }
 
 }  // namespace romp::nn::test
