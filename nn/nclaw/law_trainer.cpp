@@ -2,13 +2,13 @@
 // clipping, cosine-annealed Adam) and checkpoints of everything it changes.
 #include "nn/nclaw/law_trainer.h"
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 
 #include "kernels/core/error.h"
 #include "nn/nclaw/training_schedule.h"
+#include "nn/nclaw/trajectory_loss.h"
 
 namespace romp::nn {
 namespace {
@@ -61,18 +61,7 @@ LawTrainer::LawTrainer(const DiffMpmConfig& config, Trajectory truth, const Trai
       plastic_optimizer_(adam(*laws_.plastic, options.plastic_learning_rate)) {
   options_.validate();
   truth_.validate();
-  ROMP_CHECK(truth_.frame_count() > options_.steps,
-             "training: " + std::to_string(options_.steps) + " substeps need " + std::to_string(options_.steps + 1) +
-                 " ground-truth frames, the trajectory has " + std::to_string(truth_.frame_count()));
-}
-
-double LawTrainer::train_segment(int64_t start, int64_t steps) {
-  const Rollout result = rollout(sim_, truth_.state(start), laws_.constitutive(), {steps, options_.checkpoint_every});
-  const torch::Tensor target = truth_.x.slice(0, start + 1, start + 1 + steps);
-  // MSE over particles and axes per substep, summed over the substeps (App. D.2).
-  const torch::Tensor loss = options_.loss_scale * (result.positions - target).square().mean({1, 2}).sum();
-  loss.backward();
-  return loss.item<double>();
+  truth_.require_steps(options_.steps, "training");
 }
 
 EpochReport LawTrainer::train_epoch() {
@@ -87,10 +76,9 @@ EpochReport LawTrainer::train_epoch() {
 
   elastic_optimizer_->zero_grad();
   plastic_optimizer_->zero_grad();
-  // Each segment starts from the ground truth, so no gradient crosses a restart: segments go
-  // backward one at a time and only one segment's graph is ever held.
-  for (int64_t start = 0; start < options_.steps; start += report.teacher_forcing_period)
-    report.loss += train_segment(start, std::min(report.teacher_forcing_period, options_.steps - start));
+  report.loss = backpropagate_trajectory_loss(
+      sim_, truth_, laws_.constitutive(),
+      {options_.steps, report.teacher_forcing_period, options_.loss_scale, options_.checkpoint_every});
   ROMP_CHECK(std::isfinite(report.loss), "training: the loss of epoch " + std::to_string(report.epoch) +
                                              " is not finite; the laws diverged (try smaller learning rates)");
 

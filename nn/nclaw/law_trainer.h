@@ -67,9 +67,6 @@ class LawTrainer {
   void load_checkpoint(const std::string& path);
 
  private:
-  // The scaled loss of `steps` substeps from ground-truth frame `start`, its gradients accumulated.
-  double train_segment(int64_t start, int64_t steps);
-
   DiffMpm sim_;
   Trajectory truth_;
   TrainingOptions options_;

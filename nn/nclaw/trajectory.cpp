@@ -28,6 +28,11 @@ void Trajectory::validate() const {
   expect(F, {frames, 9, n}, "F");
 }
 
+void Trajectory::require_steps(int64_t steps, const std::string& who) const {
+  ROMP_CHECK(frame_count() > steps, who + ": " + std::to_string(steps) + " substeps need " + std::to_string(steps + 1) +
+                                        " ground-truth frames, the trajectory has " + std::to_string(frame_count()));
+}
+
 Trajectory Trajectory::to(const torch::Device& device, torch::ScalarType dtype) const {
   const auto convert = [&](const torch::Tensor& t) { return t.to(device, dtype).contiguous(); };
   return {convert(mass), convert(volume), convert(x), convert(v), convert(C), convert(F)};

@@ -3,6 +3,8 @@
 
 #include <torch/torch.h>
 
+#include <string>
+
 #include "nn/diffmpm/mpm_step.h"
 #include "nn/diffmpm/rollout.h"
 
@@ -19,6 +21,8 @@ struct Trajectory {
   MpmState state(int64_t frame) const { return {x[frame], v[frame], C[frame], F[frame]}; }
   // Throws romp::Error naming the first field whose shape, dtype or device disagrees with mass.
   void validate() const;
+  // Throws romp::Error, starting with `who`, unless frames 0 .. steps exist.
+  void require_steps(int64_t steps, const std::string& who) const;
   Trajectory to(const torch::Device& device, torch::ScalarType dtype) const;
 };
 
