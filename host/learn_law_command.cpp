@@ -8,6 +8,7 @@
 
 #include "host/nclaw/ground_truth.h"
 #include "kernels/core/error.h"
+#include "nn/nclaw/evaluation.h"
 #include "nn/nclaw/law_file.h"
 #include "nn/nclaw/law_trainer.h"
 #include "nn/tensor_bridge.h"
@@ -67,9 +68,12 @@ int learn_law(DeviceChoice choice, int threads, const LearnLawOptions& options) 
                  r.epoch + 1, training.epochs, r.loss, r.teacher_forcing_period, r.elastic_learning_rate,
                  r.plastic_learning_rate, r.elastic_gradient_norm, r.plastic_gradient_norm, r.seconds);
   }
-  nn::write_law_file(options.output, trainer.laws(), {options.trajectory, training.steps, trainer.losses()});
+  const double reconstruction = trainer.reconstruction_error();
+  nn::write_law_file(options.output, trainer.laws(),
+                     {options.trajectory, training.steps, trainer.losses(), reconstruction});
   std::filesystem::remove(checkpoint);
-  spdlog::info("wrote {}", options.output);
+  spdlog::info("wrote {}; reconstruction error (mean position MSE every {} frames of a free rollout) {:.4g} m^2",
+               options.output, nn::kEvaluationFrameStride, reconstruction);
   return 0;
 }
 

@@ -55,6 +55,7 @@ void write_law_file(const std::string& path, const NeuralLaws& laws, const LawTr
       hdf5::Group record = file.create_group("training");
       record.write_attribute("trajectory", training.trajectory);
       record.write_attribute("steps", training.steps);
+      record.write_attribute("reconstruction_error", training.reconstruction_error);
       record.write_dataset("loss", {uint64_t(training.loss.size())}, training.loss);
     }
     file.close();
@@ -92,6 +93,7 @@ LawFile read_law_file(const std::string& path) {
   const hdf5::Group record = file.open_group("training");
   law.training.trajectory = record.read_string_attribute("trajectory");
   law.training.steps = record.read_int64_attribute("steps");
+  law.training.reconstruction_error = record.read_double_attribute("reconstruction_error");
   law.training.loss = record.read_dataset<double>("loss", record.dataset_shape("loss"));
   return law;
 }

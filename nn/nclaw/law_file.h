@@ -6,7 +6,8 @@
 //                    plastic_step (α)
 //   /elastic/weight_0 [width, 13], weight_1 [width, width], weight_2 [9, width]   (f64, row-major,
 //   /plastic/weight_0 ...                                                          y = W x as torch)
-//   /training/loss [epochs] f64, attributes trajectory (path), steps (substeps per rollout)
+//   /training/loss [epochs] f64, attributes trajectory (path), steps (substeps per rollout),
+//                    reconstruction_error (position_error of the final laws, m²)
 #pragma once
 
 #include <string>
@@ -24,6 +25,7 @@ struct LawTrainingRecord {
   std::string trajectory;     // the ground-truth file
   int64_t steps = 0;          // substeps per training rollout
   std::vector<double> loss;   // per epoch
+  double reconstruction_error = 0.0;  // position_error of the final laws on the trajectory (m²)
 };
 
 struct LawFile {

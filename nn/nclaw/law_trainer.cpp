@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "kernels/core/error.h"
+#include "nn/nclaw/evaluation.h"
 #include "nn/nclaw/training_schedule.h"
 #include "nn/nclaw/trajectory_loss.h"
 
@@ -91,6 +92,10 @@ EpochReport LawTrainer::train_epoch() {
   losses_.push_back(report.loss);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return report;
+}
+
+double LawTrainer::reconstruction_error() const {
+  return position_error(sim_, truth_, laws_.constitutive(), options_.steps);
 }
 
 void LawTrainer::save_checkpoint(const std::string& path) const {

@@ -57,6 +57,9 @@ class LawTrainer {
   // The loss of every epoch so far.
   const std::vector<double>& losses() const { return losses_; }
   const NeuralLaws& laws() const { return laws_; }
+  // The reconstruction error of the laws as they are now: position_error (nn/nclaw/evaluation.h)
+  // of a free rollout of options.steps substeps against the training trajectory.
+  double reconstruction_error() const;
   const TrainingOptions& options() const { return options_; }
 
   // Everything training needs to continue bitwise as if uninterrupted: weights, Adam moments,

@@ -59,6 +59,7 @@ TEST_F(LearnLawCommand, WritesTheLawFileAndRemovesItsCheckpoint) {
   EXPECT_EQ(law.training.trajectory, options_.trajectory);
   EXPECT_EQ(law.training.steps, 10);
   EXPECT_EQ(law.training.loss.size(), 2u);
+  EXPECT_GT(law.training.reconstruction_error, 0.0);
   EXPECT_FALSE(std::filesystem::exists(options_.output + ".checkpoint"));
 }
 
