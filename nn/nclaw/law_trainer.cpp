@@ -14,13 +14,6 @@
 namespace romp::nn {
 namespace {
 
-NeuralLaws initial_laws(uint64_t seed, const torch::Tensor& like) {
-  torch::manual_seed(seed);
-  NeuralLaws laws{ElasticLaw(), PlasticLaw()};
-  laws.to(like.device(), like.scalar_type());
-  return laws;
-}
-
 std::unique_ptr<torch::optim::Adam> adam(const torch::nn::Module& network, double learning_rate) {
   return std::make_unique<torch::optim::Adam>(network.parameters(), torch::optim::AdamOptions(learning_rate));
 }
@@ -57,7 +50,7 @@ LawTrainer::LawTrainer(const DiffMpmConfig& config, Trajectory truth, const Trai
     : sim_(config, truth.mass, truth.volume),
       truth_(std::move(truth)),
       options_(options),
-      laws_(initial_laws(options.seed, truth_.mass)),
+      laws_(seeded_laws(options.seed, truth_.mass.options())),
       elastic_optimizer_(adam(*laws_.elastic, options.elastic_learning_rate)),
       plastic_optimizer_(adam(*laws_.plastic, options.plastic_learning_rate)) {
   options_.validate();

@@ -32,4 +32,11 @@ void NeuralLaws::to(const torch::Device& device, torch::ScalarType dtype) {
   plastic->to(device, dtype);
 }
 
+NeuralLaws seeded_laws(uint64_t seed, const torch::TensorOptions& options) {
+  torch::manual_seed(seed);
+  NeuralLaws laws{ElasticLaw(), PlasticLaw()};
+  laws.to(options.device(), c10::typeMetaToScalarType(options.dtype()));
+  return laws;
+}
+
 }  // namespace romp::nn

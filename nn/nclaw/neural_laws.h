@@ -49,4 +49,8 @@ struct NeuralLaws {
   void to(const torch::Device& device, torch::ScalarType dtype);
 };
 
+// Both laws with Xavier-uniform weights drawn after torch::manual_seed(seed), in `options`' dtype
+// and on its device: the same seed gives the same laws.
+NeuralLaws seeded_laws(uint64_t seed, const torch::TensorOptions& options);
+
 }  // namespace romp::nn

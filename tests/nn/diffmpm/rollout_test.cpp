@@ -113,11 +113,9 @@ TEST(DiffMpm, RolloutGradientsMatchCentralDifferences) {
 // Both neural laws in the loop (Alg. 2): gradients reach the first layer of each network.
 TEST(DiffMpm, NeuralLawRolloutGradientsMatchCentralDifferences) {
   Scene scene = small_scene(torch::kFloat64, 3);
-  torch::manual_seed(3);
-  ElasticLaw elastic;
-  PlasticLaw plastic;
-  elastic->to(torch::kFloat64);
-  plastic->to(torch::kFloat64);
+  const NeuralLaws laws_in_double = seeded_laws(3, torch::kFloat64);
+  ElasticLaw elastic = laws_in_double.elastic;
+  PlasticLaw plastic = laws_in_double.plastic;
   // Untrained weights give stresses of order 1 Pa and plastic corrections of order 1e-5; scale both
   // laws' last layers so that they move the particles within five substeps, and their gradients
   // stand well above the central differences' rounding of the loss.
@@ -141,11 +139,9 @@ TEST(DiffMpm, NeuralLawRolloutGradientsMatchCentralDifferences) {
 // Recomputing segments of 2 substeps from checkpoints gives the full graph's loss and gradients.
 TEST(DiffMpm, CheckpointedRolloutMatchesFullGraph) {
   Scene scene = small_scene(torch::kFloat64, 4);
-  torch::manual_seed(4);
-  ElasticLaw elastic;
-  PlasticLaw plastic;
-  elastic->to(torch::kFloat64);
-  plastic->to(torch::kFloat64);
+  const NeuralLaws laws_in_double = seeded_laws(4, torch::kFloat64);
+  ElasticLaw elastic = laws_in_double.elastic;
+  PlasticLaw plastic = laws_in_double.plastic;
   const torch::Tensor log_youngs = torch::tensor(std::log(2e4), torch::kFloat64).requires_grad_(true);
   scene.initial.v.requires_grad_(true);
   const RandomLoss weights(7, scene.sim.particle_count(), torch::kFloat64);

@@ -13,10 +13,7 @@
 namespace romp::nn {
 namespace {
 
-NeuralLaws random_laws() {
-  torch::manual_seed(7);
-  return {ElasticLaw(), PlasticLaw()};
-}
+NeuralLaws random_laws() { return seeded_laws(7, torch::kFloat32); }
 
 // The message of the romp::Error that reading `path` throws ("" when it reads).
 std::string read_error(const std::string& path) {

@@ -47,11 +47,9 @@ TEST(NeuralLaws, HaveTheAuthorsParameterCount) {
 
 TEST(NeuralLaws, StressIsZeroAndFUnchangedAtIdentityExactly) {
   for (torch::ScalarType dtype : {torch::kFloat32, torch::kFloat64}) {
-    torch::manual_seed(1);
-    ElasticLaw elastic;
-    PlasticLaw plastic;
-    elastic->to(dtype);
-    plastic->to(dtype);
+    const NeuralLaws laws = seeded_laws(1, options(dtype));
+    ElasticLaw elastic = laws.elastic;
+    PlasticLaw plastic = laws.plastic;
     const torch::Tensor F = identities(kCount, dtype);
     EXPECT_TRUE(torch::equal(invariant_features(planes_to_matrices(F), stretch_and_rotation(F).sigma),
                              torch::zeros({kCount, kLawInputs}, options(dtype))));
@@ -62,12 +60,10 @@ TEST(NeuralLaws, StressIsZeroAndFUnchangedAtIdentityExactly) {
 
 // P(Q F) = Q P(F) and F_new(Q F) = Q F_new(F) (App. C.3) for random F and rotations Q.
 TEST(NeuralLaws, RotatingFRotatesTheirOutputs) {
-  torch::manual_seed(2);
   const torch::ScalarType dtype = torch::kFloat64;
-  ElasticLaw elastic;
-  PlasticLaw plastic;
-  elastic->to(dtype);
-  plastic->to(dtype);
+  const NeuralLaws laws = seeded_laws(2, options(dtype));
+  ElasticLaw elastic = laws.elastic;
+  PlasticLaw plastic = laws.plastic;
   const torch::Tensor F = deformations(kCount, 0.3, 3.0, dtype);
   const torch::Tensor Q = random_rotations(kCount, dtype);
   const torch::Tensor rotated = matrices_to_planes(torch::bmm(Q, planes_to_matrices(F)));
@@ -84,11 +80,9 @@ TEST(NeuralLaws, RotatingFRotatesTheirOutputs) {
 // σ from 1e-3 to 1e3 with det F < 0 for half of them: outputs and their F-gradients stay finite.
 TEST(NeuralLaws, StayFiniteForExtremeDeformations) {
   for (torch::ScalarType dtype : {torch::kFloat32, torch::kFloat64}) {
-    torch::manual_seed(3);
-    ElasticLaw elastic;
-    PlasticLaw plastic;
-    elastic->to(dtype);
-    plastic->to(dtype);
+    const NeuralLaws laws = seeded_laws(3, options(dtype));
+    ElasticLaw elastic = laws.elastic;
+    PlasticLaw plastic = laws.plastic;
     const torch::Tensor F = deformations(kCount, 1e-3, 1e3, dtype).requires_grad_(true);
     const torch::Tensor P = elastic->forward(F), F_new = plastic->forward(F);
     EXPECT_TRUE(torch::isfinite(P).all().item<bool>());

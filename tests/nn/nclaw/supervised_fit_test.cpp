@@ -24,12 +24,11 @@ TEST(SupervisedFit, PlasticPairsOfAnElasticTrajectoryAreUnchangedF) {
 
 // The elastic law learns the jelly's stress at the deformations of its own trajectory (every 4th frame).
 TEST(SupervisedFit, ElasticLawLearnsTheStressOfItsPairs) {
-  torch::manual_seed(3);
   const test::TinyGroundTruth truth = test::tiny_ground_truth(40);
   ConstitutivePairs pairs;
   pairs.F = truth.trajectory.F.slice(0, 0, c10::nullopt, 4).permute({1, 0, 2}).reshape({9, -1}).contiguous();
   pairs.P = fixed_corotated_stress(pairs.F, torch::tensor(1e4f), torch::tensor(0.3f)).detach();
-  NeuralLaws laws{ElasticLaw(), PlasticLaw()};
+  NeuralLaws laws = seeded_laws(3, torch::kFloat32);
   SupervisedOptions options;
   options.epochs = 100;
   const SupervisedLosses losses = fit_supervised(laws, pairs, options);
@@ -48,7 +47,7 @@ TEST(SupervisedFit, PlasticLawLearnsARelaxation) {
   const torch::Tensor F = planes_to_matrices(pairs.F_trial);
   const torch::Tensor R = stretch_and_rotation(pairs.F_trial).R;
   pairs.F_projected = matrices_to_planes(F - kPlasticStep * (F - R)).detach();
-  NeuralLaws laws{ElasticLaw(), PlasticLaw()};
+  NeuralLaws laws = seeded_laws(5, torch::kFloat32);
   SupervisedOptions options;
   options.epochs = 100;
   const SupervisedLosses losses = fit_supervised(laws, pairs, options);
