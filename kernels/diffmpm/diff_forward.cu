@@ -62,7 +62,7 @@ struct GridToParticle {
     Vec3<T> x = in.x.load(p);
     const GatheredVelocity<T> gathered = gather_velocity(step, grid, mpm::QuadraticStencil<T>(x, inverse_dx(step)));
     x += step.dt * gathered.v;
-    for (int a = 0; a < 3; ++a) x[a] = math::min(math::max(x[a], low_position_bound(step)), high_position_bound(step, a));
+    for (int a = 0; a < 3; ++a) x[a] = clamp_to_domain(step, x[a], a);
     out.x.store(p, x);
     out.v.store(p, gathered.v);
     out.C.store(p, gathered.C);

@@ -141,6 +141,14 @@ ROMP_HD_INLINE T high_position_bound(const StepParams<T>& step, int axis) {
   return (T(step.cells[axis]) - T(mpm::kDomainMarginCells)) * step.dx;
 }
 
+// Coordinate `axis` of a position clamped to the bounds. NaN (from a law gone non-finite) goes to the
+// low bound: the next substep's stencil must index inside the grid whatever the laws did.
+template <class T>
+ROMP_HD_INLINE T clamp_to_domain(const StepParams<T>& step, T x, int axis) {
+  const T low = low_position_bound(step);
+  return math::select(x >= low, math::min(x, high_position_bound(step, axis)), low);
+}
+
 template <class T>
 ROMP_HD_INLINE void atomic_add(const Vec3Planes<T>& planes, Index n, const Vec3<T>& value) {
   for (int a = 0; a < 3; ++a) romp::atomic_add(&planes.data()[a * planes.count() + n], value[a]);

@@ -78,6 +78,9 @@ EpochReport LawTrainer::train_epoch() {
 
   report.elastic_gradient_norm = torch::nn::utils::clip_grad_norm_(laws_.elastic->parameters(), options_.gradient_clip);
   report.plastic_gradient_norm = torch::nn::utils::clip_grad_norm_(laws_.plastic->parameters(), options_.gradient_clip);
+  ROMP_CHECK(std::isfinite(report.elastic_gradient_norm) && std::isfinite(report.plastic_gradient_norm),
+             "training: non-finite gradients in epoch " + std::to_string(report.epoch) +
+                 ": the laws produced non-finite stress or F (try smaller learning rates)");
   set_learning_rate(*elastic_optimizer_, report.elastic_learning_rate);
   set_learning_rate(*plastic_optimizer_, report.plastic_learning_rate);
   elastic_optimizer_->step();

@@ -157,6 +157,19 @@ TEST(DiffStep, ConservesMomentumWithoutWallsOrGravity) {
   }
 }
 
+// A law gone non-finite must not make the next substep index outside the grid: NaN positions are
+// clamped into the domain like any other.
+TEST(DiffStep, NonFiniteStressLeavesPositionsInsideTheDomain) {
+  HostScene<double> scene = random_scene(6);
+  for (Index p = 0; p < kParticles; p += 3) scene.P[p] = std::nan("");
+  const StepParams<double> params = scene_params<double>(3, 9.8);
+  const std::vector<double> out = forward(test::exec(), params, scene);
+  for (Index i = 0; i < 3 * kParticles; ++i) {
+    EXPECT_GE(out[i], params.dx) << i;
+    EXPECT_LE(out[i], 1.0 - params.dx) << i;
+  }
+}
+
 TEST(DiffStep, FloatStepMatchesDouble) {
   const HostScene<double> scene = random_scene(3);
   auto to_float = [](const std::vector<double>& values) { return std::vector<float>(values.begin(), values.end()); };
