@@ -23,7 +23,9 @@ class EquivariantMlpImpl : public torch::nn::Module {
   torch::Tensor forward(const torch::Tensor& F);
 
  private:
-  torch::nn::Sequential mlp_;
+  // The three weight matrices [outputs, inputs], as torch::nn::Linear holds them, applied with
+  // nn::dense (romp's kernels: the system BLAS may be the slow reference one).
+  torch::Tensor input_weight_, hidden_weight_, output_weight_;
 };
 TORCH_MODULE(EquivariantMlp);
 
