@@ -17,18 +17,6 @@ mlp::DenseShape shape_of(const torch::Tensor& X, const torch::Tensor& W) {
   return {X.size(0), int(W.size(1)), int(W.size(0))};
 }
 
-// Calls work(T{}) with T the C++ type of a float32 or float64 tensor.
-template <class Work>
-void dispatch_scalar(const torch::Tensor& tensor, const Work& work) {
-  if (tensor.scalar_type() == torch::kFloat32) {
-    work(float{});
-  } else {
-    ROMP_CHECK(tensor.scalar_type() == torch::kFloat64,
-               "dense: dtype " + std::string(c10::toString(tensor.scalar_type())) + ", expected float32 or float64");
-    work(double{});
-  }
-}
-
 class DenseFunction : public torch::autograd::Function<DenseFunction> {
  public:
   static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& input, const torch::Tensor& weight) {
@@ -36,7 +24,7 @@ class DenseFunction : public torch::autograd::Function<DenseFunction> {
     const mlp::DenseShape shape = shape_of(X, W);
     torch::Tensor Y = torch::empty({shape.rows, shape.outputs}, X.options());
     const torch::Tensor W_t = W.t().contiguous();
-    dispatch_scalar(X, [&](auto scalar) {
+    dispatch_real(X, "dense: X", [&](auto scalar) {
       using T = decltype(scalar);
       const Exec exec = exec_for(X);
       mlp::dense_forward<T>(exec, shape, as_span<const T>(X, exec, "dense X"), as_span<const T>(W_t, exec, "dense W"),
@@ -51,7 +39,7 @@ class DenseFunction : public torch::autograd::Function<DenseFunction> {
     const torch::Tensor &X = saved[0], &W = saved[1];
     const torch::Tensor dY = gradients[0].contiguous();
     torch::Tensor dX = torch::empty_like(X), dW = torch::empty_like(W);
-    dispatch_scalar(X, [&](auto scalar) {
+    dispatch_real(X, "dense: X", [&](auto scalar) {
       using T = decltype(scalar);
       const Exec exec = exec_for(X);
       mlp::dense_backward<T>(exec, shape_of(X, W), as_span<const T>(X, exec, "dense X"),

@@ -69,18 +69,6 @@ torch::Tensor grid_scratch(const DiffMpmConfig& config, const torch::Tensor& lik
   return torch::empty({diffmpm::kDenseGridPlanes * diffmpm::dense_grid_nodes(config.cells.data())}, like.options());
 }
 
-// Calls work(T{}) with T float or double, the C++ type of `tensor`'s dtype.
-template <class Work>
-void dispatch_scalar(const torch::Tensor& tensor, const Work& work) {
-  if (tensor.scalar_type() == torch::kFloat32) {
-    work(float{});
-  } else {
-    ROMP_CHECK(tensor.scalar_type() == torch::kFloat64,
-               "DiffMpm: dtype " + std::string(c10::toString(tensor.scalar_type())) + ", expected float32 or float64");
-    work(double{});
-  }
-}
-
 class MpmStepFunction : public torch::autograd::Function<MpmStepFunction> {
  public:
   static variable_list forward(AutogradContext* ctx, const c10::intrusive_ptr<ConfigCapsule>& capsule,
@@ -93,7 +81,7 @@ class MpmStepFunction : public torch::autograd::Function<MpmStepFunction> {
     variable_list out{torch::empty({3, n}, x.options()), torch::empty({3, n}, x.options()),
                       torch::empty({9, n}, x.options()), torch::empty({9, n}, x.options())};
     const DiffMpmConfig& config = capsule->config;
-    dispatch_scalar(mass, [&](auto scalar) {
+    dispatch_real(mass, "DiffMpm: particle mass", [&](auto scalar) {
       using T = decltype(scalar);
       const Exec exec = exec_for(mass);
       torch::Tensor scratch = grid_scratch(config, mass);
@@ -120,7 +108,7 @@ class MpmStepFunction : public torch::autograd::Function<MpmStepFunction> {
     variable_list in_gradients{torch::empty({3, n}, options), torch::empty({3, n}, options),
                                torch::empty({9, n}, options), torch::empty({9, n}, options),
                                torch::empty({9, n}, options)};
-    dispatch_scalar(mass, [&](auto scalar) {
+    dispatch_real(mass, "DiffMpm: particle mass", [&](auto scalar) {
       using T = decltype(scalar);
       const Exec exec = exec_for(mass);
       torch::Tensor scratch = grid_scratch(config, mass);
