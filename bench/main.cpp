@@ -24,6 +24,7 @@ const std::vector<Suite> kSuites = {
     {"memory", "copy bandwidth of each backend (the bound for memory-bound kernels)", romp::bench::run_memory_suite},
     {"step", "full-order MPM particle-substeps per second and memory per particle", romp::bench::run_step_suite},
     {"svd", "batched 3x3 SVD against Eigen (CPU) and cuSOLVER (GPU); share of copy bandwidth", romp::bench::run_svd_suite},
+    {"train", "seconds per neural-law training epoch (1000 substeps forward and backward)", romp::bench::run_train_suite},
 };
 
 std::string joined_command(int argc, char** argv) {

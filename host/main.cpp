@@ -13,6 +13,7 @@
 #include "host/build_info.h"
 #include "host/info_report.h"
 #include "host/run/position_error.h"
+#include "host/learn_law_command.h"
 #include "host/run/scene_runner.h"
 #include "host/run/stage_table.h"
 #include "host/run/sweep_runner.h"
@@ -155,6 +156,8 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
   compare_command->add_flag("--frames", per_frame, "Also print the error of every frame");
+  romp::LearnLawOptions learn_law_options;
+  CLI::App* learn_law = romp::add_learn_law_command(app, learn_law_options);
 
   try {
     app.parse(argc, argv);
@@ -175,6 +178,7 @@ int main(int argc, char** argv) {
       sweep_options.run_arguments = {"--device", device, "--threads", std::to_string(threads), "--log-level", log_level};
       return sweep(scene_path, sweep_options);
     }
+    if (learn_law->parsed()) return romp::learn_law(choice, threads, learn_law_options);
     const romp::scene::ParameterValues overrides = parse_overrides(sets);
     if (app.got_subcommand("check")) return check_scene(scene_path, overrides);
     return run_scene(choice, threads, scene_path, overrides, run_options, deterministic);

@@ -52,19 +52,6 @@ torch::Tensor or_zeros(const torch::Tensor& gradient, const torch::Tensor& like)
   return gradient.defined() || !like.defined() ? gradient : torch::zeros_like(like);
 }
 
-// Calls work(T{}) with T the C++ type of `tensor`'s dtype, float or double.
-template <class Work>
-void dispatch_scalar(const torch::Tensor& tensor, const std::string& name, const Work& work) {
-  ROMP_CHECK(tensor.defined(), name + ": tensor is undefined");
-  if (tensor.scalar_type() == torch::kFloat32) {
-    work(float{});
-  } else if (tensor.scalar_type() == torch::kFloat64) {
-    work(double{});
-  } else {
-    throw Error(name + ": dtype " + std::string(c10::toString(tensor.scalar_type())) + ", expected float32 or float64");
-  }
-}
-
 }  // namespace
 
 Svd3Tensors svd3(const torch::Tensor& F) {
@@ -76,7 +63,7 @@ Svd3Tensors svd3(const torch::Tensor& F) {
 }
 
 void svd3_out(const torch::Tensor& F, const torch::Tensor& U, const torch::Tensor& S, const torch::Tensor& V) {
-  dispatch_scalar(F, "F", [&](auto scalar) {
+  dispatch_real(F, "F", [&](auto scalar) {
     using T = decltype(scalar);
     const Exec exec = exec_for(F);
     const int64_t n = matrix_count(F, "F");
@@ -93,7 +80,7 @@ Polar3Tensors polar3(const torch::Tensor& F) {
 }
 
 void polar3_out(const torch::Tensor& F, const torch::Tensor& R, const torch::Tensor& S) {
-  dispatch_scalar(F, "F", [&](auto scalar) {
+  dispatch_real(F, "F", [&](auto scalar) {
     using T = decltype(scalar);
     const Exec exec = exec_for(F);
     const int64_t n = matrix_count(F, "F");
@@ -106,7 +93,7 @@ torch::Tensor svd3_backward(const torch::Tensor& U, const torch::Tensor& S, cons
   const int64_t n = matrix_count(U, "U");
   torch::Tensor dF = torch::empty({kMatrixPlanes, n}, U.options());
   const torch::Tensor gradient_U = or_zeros(dU, U), gradient_S = or_zeros(dS, S), gradient_V = or_zeros(dV, V);
-  dispatch_scalar(U, "U", [&](auto scalar) {
+  dispatch_real(U, "U", [&](auto scalar) {
     using T = decltype(scalar);
     const Exec exec = exec_for(U);
     svd3_backward_batched(exec, matrices<const T>(U, exec, n, "U"), vectors<const T>(S, exec, n, "S"),
@@ -121,7 +108,7 @@ torch::Tensor polar3_backward(const torch::Tensor& F, const torch::Tensor& dR, c
   const int64_t n = matrix_count(F, "F");
   torch::Tensor dF = torch::empty({kMatrixPlanes, n}, F.options());
   const torch::Tensor gradient_R = or_zeros(dR, F), gradient_S = or_zeros(dS, F);
-  dispatch_scalar(F, "F", [&](auto scalar) {
+  dispatch_real(F, "F", [&](auto scalar) {
     using T = decltype(scalar);
     const Exec exec = exec_for(F);
     polar3_backward_batched(exec, matrices<const T>(F, exec, n, "F"), matrices<const T>(gradient_R, exec, n, "dR"),

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "kernels/core/error.h"
 #include "kernels/core/exec.h"
 #include "kernels/core/span.h"
 
@@ -25,5 +26,20 @@ torch::Tensor as_tensor(Span<T> span, const Exec& exec, c10::IntArrayRef shape);
 // dtype is T, the tensor is contiguous and on `exec`'s device.
 template <class T>
 Span<T> as_span(const torch::Tensor& tensor, const Exec& exec, const std::string& what);
+
+// Calls work(T{}) with T the C++ type of `tensor`'s dtype, float or double; any other dtype (or an
+// undefined tensor) is a romp::Error that names `what`.
+template <class Work>
+void dispatch_real(const torch::Tensor& tensor, const std::string& what, const Work& work) {
+  if (tensor.defined() && tensor.scalar_type() == torch::kFloat32) {
+    work(float{});
+  } else if (tensor.defined() && tensor.scalar_type() == torch::kFloat64) {
+    work(double{});
+  } else {
+    throw Error(what + ": " +
+                (tensor.defined() ? "dtype " + std::string(c10::toString(tensor.scalar_type())) : std::string("undefined")) +
+                ", expected float32 or float64");
+  }
+}
 
 }  // namespace romp::nn

@@ -42,7 +42,7 @@ std::string write_run(const test::ScratchFolder& folder, const std::string& name
 
 const std::vector<float> kX = {0.0f, 3.0f, 4.0f, 0.0f, 0.0f, 0.0f};  // points (0, 4, 0) and (3, 0, 0): |x| = 4, 3
 
-TEST(PositionError, IsTheRootOfTheSummedSquaredOffsetsOverTheSummedSquaredPositions) {
+TEST(AccumulatedPositionError, IsTheRootOfTheSummedSquaredOffsetsOverTheSummedSquaredPositions) {
   const test::ScratchFolder folder;
   const std::string reference = write_run(folder, "reference.h5", kX, 0.0f, {0.0, 0.1});
   const std::string run = write_run(folder, "run.h5", kX, 0.5f, {0.0, 0.1});
@@ -56,7 +56,7 @@ TEST(PositionError, IsTheRootOfTheSummedSquaredOffsetsOverTheSummedSquaredPositi
   EXPECT_EQ(compare_snapshots(reference, reference).percent, 0.0);
 }
 
-TEST(PositionError, RunsOfOtherBodiesOrFrameTimesAreNotCompared) {
+TEST(AccumulatedPositionError, RunsOfOtherBodiesOrFrameTimesAreNotCompared) {
   const test::ScratchFolder folder;
   const std::string reference = write_run(folder, "reference.h5", kX, 0.0f, {0.0, 0.1});
   const std::string moved = write_run(folder, "moved.h5", {0.0f, 3.0f, 4.0f, 0.0f, 0.0f, 1.0f}, 0.0f, {0.0, 0.1});

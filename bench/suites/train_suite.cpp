@@ -1,0 +1,63 @@
+// train suite: one epoch of neural-law training (Ma et al. 2023, App. D.2) on the paper's training
+// scene: 1000 substeps forward and backward through the differentiable MPM with both neural laws,
+// 1000 particles, against a jelly trajectory simulated with the true law.
+#include <fmt/format.h>
+#include <omp.h>
+
+#include "bench/suites/suites.h"
+#include "host/nclaw/ground_truth.h"
+#include "host/scene/scene_parser.h"
+#include "host/scene/scene_setup.h"
+#include "nn/nclaw/fixed_corotated.h"
+#include "nn/nclaw/law_trainer.h"
+#include "nn/tensor_bridge.h"
+
+namespace romp::bench {
+namespace {
+
+constexpr Index kEpochSteps = 1000;  // substeps of one training rollout (App. D.2)
+
+torch::Tensor tensor_of(const std::vector<float>& values, int64_t planes) {
+  return torch::tensor(c10::ArrayRef<float>(values), torch::kFloat32).reshape({planes, -1});
+}
+
+}  // namespace
+
+void run_train_suite(Context& context) {
+  const scene::Scene scene = scene::load_scene(ROMP_SCENES_DIR "/nclaw/cube_jelly.toml");
+  const scene::SceneSetup setup = scene::build_scene(scene);
+  const mpm::ParticleInit& p = setup.particles;
+  const Index steps = context.scaled(kEpochSteps, 10);
+  const int64_t n = p.count();
+
+  const nn::DiffMpmConfig config = nclaw::differentiable_config(scene, "bench train");
+  const torch::Tensor mass = tensor_of(p.mass, 1).flatten(), volume = tensor_of(p.volume0, 1).flatten();
+  const nn::MpmState initial{tensor_of(p.x, 3), tensor_of(p.v, 3), torch::zeros({9, n}),
+                             torch::eye(3).reshape({9, 1}).expand({9, n}).contiguous()};
+  const scene::MaterialSpecification& jelly = scene.materials.front();
+  const torch::Tensor youngs = torch::tensor(float(jelly.youngs_modulus)),
+                      poisson = torch::tensor(float(jelly.poissons_ratio));
+  const nn::ConstitutiveLaws truth_law{
+      [&](const torch::Tensor& F) { return nn::fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
+  const nn::Trajectory truth = nn::simulate(nn::DiffMpm(config, mass, volume), initial, truth_law, steps);
+
+  for (const Exec& exec : context.execs()) {
+    if (exec.is_cuda() && !torch::cuda::is_available()) {
+      fmt::print("train: skipped on cuda, this LibTorch has no CUDA device\n");
+      continue;
+    }
+    if (!exec.is_cuda()) {
+      // LibTorch's ops and the romp kernels behind the autograd functions share the threads.
+      omp_set_num_threads(exec.threads);
+      torch::set_num_threads(exec.threads);
+    }
+    nn::TrainingOptions options;
+    options.steps = steps;
+    nn::LawTrainer trainer(config, truth.to(nn::torch_device(exec), torch::kFloat32), options);
+    context.time("train", "epoch_jelly_cube", exec, steps, "substep (forward + backward)",
+                 [&] { trainer.train_epoch(); }, 0.0,
+                 fmt::format("{} particles, {} substeps per epoch, both neural laws", n, steps));
+  }
+}
+
+}  // namespace romp::bench

@@ -1,0 +1,80 @@
+// learn-law: ground truth → LawTrainer epochs with checkpoints → law file.
+#include "host/learn_law_command.h"
+
+#include <omp.h>
+#include <spdlog/spdlog.h>
+
+#include <filesystem>
+
+#include "host/nclaw/ground_truth.h"
+#include "kernels/core/error.h"
+#include "nn/nclaw/evaluation.h"
+#include "nn/nclaw/law_file.h"
+#include "nn/nclaw/law_trainer.h"
+#include "nn/tensor_bridge.h"
+
+namespace romp {
+
+CLI::App* add_learn_law_command(CLI::App& app, LearnLawOptions& options) {
+  CLI::App* command = app.add_subcommand("learn-law", "Learn neural elastic and plastic laws from a trajectory");
+  command->add_option("trajectory", options.trajectory, "Ground-truth snapshot (.h5) with one frame per substep")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("-o,--output", options.output, "Law file to write (.h5)")->required();
+  command->add_option("--epochs", options.epochs, "Training epochs, one rollout each")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command->add_option("--steps", options.steps, "Substeps per rollout")->check(CLI::PositiveNumber)->capture_default_str();
+  command->add_option("--checkpoint-every", options.checkpoint_every,
+                      "Keep states only this many substeps apart and recompute between them in the backward pass")
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("--seed", options.seed, "Seed of the initial weights")->capture_default_str();
+  command->add_flag("--resume", options.resume, "Continue from <output>.checkpoint");
+  return command;
+}
+
+int learn_law(DeviceChoice choice, int threads, const LearnLawOptions& options) {
+  if (threads > 0) {
+    // The romp kernels behind the autograd functions and LibTorch's own ops share the budget.
+    omp_set_num_threads(threads);
+    torch::set_num_threads(threads);
+  }
+  const Exec exec = select_backend(choice, threads);
+  if (exec.is_cuda() && !torch::cuda::is_available())
+    throw Error("learn-law: the CUDA backend was selected but this LibTorch has no CUDA device; use --device cpu");
+  const nclaw::GroundTruth truth = nclaw::read_ground_truth(options.trajectory, options.steps);
+  const torch::Device device = nn::torch_device(exec);
+  nn::TrainingOptions training;
+  training.epochs = options.epochs;
+  training.steps = options.steps;
+  training.checkpoint_every = options.checkpoint_every;
+  training.seed = options.seed;
+  nn::LawTrainer trainer(truth.config, truth.trajectory.to(device, torch::kFloat32), training);
+
+  const std::string checkpoint = options.output + ".checkpoint";
+  if (options.resume) {
+    if (!std::filesystem::exists(checkpoint))
+      throw Error("--resume: no checkpoint " + checkpoint + " (it is removed once " + options.output + " is written)");
+    trainer.load_checkpoint(checkpoint);
+    spdlog::info("resumed {} after epoch {}", checkpoint, trainer.epochs_done());
+  }
+  spdlog::info("learning laws from {}: {} particles, {} substeps per epoch, {} epochs on {}", options.trajectory,
+               truth.trajectory.particle_count(), training.steps, training.epochs, device.str());
+  while (!trainer.finished()) {
+    const nn::EpochReport r = trainer.train_epoch();
+    trainer.save_checkpoint(checkpoint);
+    spdlog::info("epoch {}/{}: loss {:.6g}  teacher forcing every {} substeps  learning rates {:.3g}, {:.3g}  "
+                 "gradient norms {:.3g}, {:.3g}  {:.2f} s",
+                 r.epoch + 1, training.epochs, r.loss, r.teacher_forcing_period, r.elastic_learning_rate,
+                 r.plastic_learning_rate, r.elastic_gradient_norm, r.plastic_gradient_norm, r.seconds);
+  }
+  const double reconstruction = trainer.reconstruction_error();
+  nn::write_law_file(options.output, trainer.laws(),
+                     {options.trajectory, training.steps, trainer.losses(), reconstruction});
+  std::filesystem::remove(checkpoint);
+  spdlog::info("wrote {}; reconstruction error (mean position MSE every {} frames of a free rollout) {:.4g} m^2",
+               options.output, nn::kEvaluationFrameStride, reconstruction);
+  return 0;
+}
+
+}  // namespace romp

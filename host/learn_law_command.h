@@ -1,0 +1,30 @@
+// `romp learn-law TRAJ.h5 -o law.h5`: trains neural elastic and plastic laws on a ground-truth snapshot.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <string>
+
+#include "host/backend_selection.h"
+
+namespace romp {
+
+struct LearnLawOptions {
+  std::string trajectory;  // a `romp run` snapshot with one frame per substep
+  std::string output;      // the law file; its checkpoint is <output>.checkpoint
+  int64_t epochs = 300;
+  int64_t steps = 1000;
+  int64_t checkpoint_every = 0;
+  uint64_t seed = 0;
+  bool resume = false;
+};
+
+// Declares the subcommand and its options on `app`.
+CLI::App* add_learn_law_command(CLI::App& app, LearnLawOptions& options);
+
+// Trains, logging every epoch's loss; checkpoints after every epoch and removes the checkpoint when
+// the law file is written. Returns the process exit code (0).
+int learn_law(DeviceChoice choice, int threads, const LearnLawOptions& options);
+
+}  // namespace romp

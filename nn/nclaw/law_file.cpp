@@ -1,0 +1,101 @@
+// write_law_file and read_law_file through romp::hdf5.
+#include "nn/nclaw/law_file.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "kernels/core/error.h"
+#include "nn/hdf5_file.h"
+
+namespace romp::nn {
+namespace {
+
+constexpr const char* kRole = "neural law";
+constexpr const char* kActivation = "gelu";
+// Widths a file may declare: the paper's is 64; the bound only rejects absurd (corrupted) values.
+constexpr int64_t kMaxWidth = 4096;
+
+void write_network(hdf5::File& file, const std::string& group, const torch::nn::Module& network) {
+  const std::vector<torch::Tensor> weights = network.parameters();
+  for (size_t layer = 0; layer < weights.size(); ++layer) {
+    const torch::Tensor w = weights[layer].detach().to(torch::kCPU, torch::kFloat64).contiguous();
+    file.write_dataset(group + "/weight_" + std::to_string(layer), {uint64_t(w.size(0)), uint64_t(w.size(1))},
+                       w.data_ptr<double>());
+  }
+}
+
+void read_network(const hdf5::File& file, const std::string& group, torch::nn::Module& network) {
+  torch::NoGradGuard no_grad;
+  for (size_t layer = 0; layer < network.parameters().size(); ++layer) {
+    torch::Tensor weight = network.parameters()[layer];
+    const std::string name = group + "/weight_" + std::to_string(layer);
+    std::vector<double> values = file.read_dataset<double>(name, {uint64_t(weight.size(0)), uint64_t(weight.size(1))});
+    for (double value : values)
+      ROMP_CHECK(std::isfinite(value), file.label() + ": dataset /" + name + ": holds a non-finite weight");
+    weight.copy_(torch::from_blob(values.data(), weight.sizes(), torch::kFloat64));
+  }
+}
+
+}  // namespace
+
+void write_law_file(const std::string& path, const NeuralLaws& laws, const LawTrainingRecord& training) {
+  const std::string partial = path + ".partial";
+  {
+    hdf5::File file = hdf5::File::create(partial, kRole);
+    file.write_attribute("format", kLawFileFormat);
+    file.write_attribute("format_version", kLawFileVersion);
+    file.write_attribute("inputs", kLawInputs);
+    file.write_attribute("width", laws.elastic->parameters().front().size(0));
+    file.write_attribute("outputs", kLawOutputs);
+    file.write_attribute("activation", kActivation);
+    file.write_attribute("plastic_step", laws.plastic->step());
+    write_network(file, "elastic", *laws.elastic);
+    write_network(file, "plastic", *laws.plastic);
+    {
+      hdf5::Group record = file.create_group("training");
+      record.write_attribute("trajectory", training.trajectory);
+      record.write_attribute("steps", training.steps);
+      record.write_attribute("reconstruction_error", training.reconstruction_error);
+      record.write_dataset("loss", {uint64_t(training.loss.size())}, training.loss);
+    }
+    file.close();
+  }
+  std::filesystem::rename(partial, path);
+}
+
+LawFile read_law_file(const std::string& path) {
+  const hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadOnly, kRole);
+  const std::string& label = file.label();
+  const std::string format = file.read_string_attribute("format");
+  ROMP_CHECK(format == kLawFileFormat,
+             label + ": attribute format is '" + format + "', expected '" + kLawFileFormat + "'");
+  const int64_t version = file.read_int64_attribute("format_version");
+  ROMP_CHECK(version == kLawFileVersion, label + ": attribute format_version is " + std::to_string(version) +
+                                             ", this build reads " + std::to_string(kLawFileVersion));
+  const int64_t inputs = file.read_int64_attribute("inputs"), outputs = file.read_int64_attribute("outputs");
+  ROMP_CHECK(inputs == kLawInputs && outputs == kLawOutputs,
+             label + ": attributes inputs, outputs are " + std::to_string(inputs) + ", " + std::to_string(outputs) +
+                 "; the laws have " + std::to_string(kLawInputs) + " inputs and " + std::to_string(kLawOutputs) +
+                 " outputs");
+  const std::string activation = file.read_string_attribute("activation");
+  ROMP_CHECK(activation == kActivation,
+             label + ": attribute activation is '" + activation + "', expected '" + kActivation + "'");
+  const int64_t width = file.read_int64_attribute("width");
+  ROMP_CHECK(width >= 1 && width <= kMaxWidth, label + ": attribute width is " + std::to_string(width) +
+                                                   ", allowed 1 to " + std::to_string(kMaxWidth));
+  const double step = file.read_double_attribute("plastic_step");
+  ROMP_CHECK(std::isfinite(step) && step > 0.0,
+             label + ": attribute plastic_step is " + std::to_string(step) + ", expected a positive number");
+
+  LawFile law{{ElasticLaw(width), PlasticLaw(width, step)}, {}};
+  read_network(file, "elastic", *law.laws.elastic);
+  read_network(file, "plastic", *law.laws.plastic);
+  const hdf5::Group record = file.open_group("training");
+  law.training.trajectory = record.read_string_attribute("trajectory");
+  law.training.steps = record.read_int64_attribute("steps");
+  law.training.reconstruction_error = record.read_double_attribute("reconstruction_error");
+  law.training.loss = record.read_dataset<double>("loss", record.dataset_shape("loss"));
+  return law;
+}
+
+}  // namespace romp::nn

@@ -1,0 +1,43 @@
+// Neural-law files: a learned elastic + plastic pair in HDF5 (weights, architecture, training record),
+// readable without LibTorch's serialisation.
+//
+// Layout (format "romp-neural-law", version 1):
+//   root attributes  format, format_version, inputs (13), width, outputs (9), activation ("gelu"),
+//                    plastic_step (α)
+//   /elastic/weight_0 [width, 13], weight_1 [width, width], weight_2 [9, width]   (f64, row-major,
+//   /plastic/weight_0 ...                                                          y = W x as torch)
+//   /training/loss [epochs] f64, attributes trajectory (path), steps (substeps per rollout),
+//                    reconstruction_error (position_error of the final laws, m²)
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "nn/nclaw/neural_laws.h"
+
+namespace romp::nn {
+
+inline constexpr const char* kLawFileFormat = "romp-neural-law";
+inline constexpr int64_t kLawFileVersion = 1;
+
+// How the laws were learned.
+struct LawTrainingRecord {
+  std::string trajectory;     // the ground-truth file
+  int64_t steps = 0;          // substeps per training rollout
+  std::vector<double> loss;   // per epoch
+  double reconstruction_error = 0.0;  // position_error of the final laws on the trajectory (m²)
+};
+
+struct LawFile {
+  NeuralLaws laws;            // float32 on the CPU
+  LawTrainingRecord training;
+};
+
+// Writes `path` through a temporary name, so an existing file is replaced only by a complete one.
+void write_law_file(const std::string& path, const NeuralLaws& laws, const LawTrainingRecord& training);
+
+// Throws romp::Error naming the file, the object and the allowed values when it is not a complete
+// law file of this version (wrong format, architecture, shapes, or non-finite weights).
+LawFile read_law_file(const std::string& path);
+
+}  // namespace romp::nn

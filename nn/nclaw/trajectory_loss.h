@@ -1,0 +1,27 @@
+// The training loss of Ma et al. 2023 (App. D.2): positions of a rollout against a ground-truth
+// trajectory, with teacher forcing, backpropagated segment by segment.
+#pragma once
+
+#include <cstdint>
+
+#include "nn/diffmpm/mpm_step.h"
+#include "nn/diffmpm/rollout.h"
+#include "nn/nclaw/trajectory.h"
+
+namespace romp::nn {
+
+struct TrajectoryLossOptions {
+  int64_t steps = 1000;                  // substeps compared with frames 1 .. steps
+  int64_t teacher_forcing_period = 25;   // the rollout restarts from the ground truth this often
+  double loss_scale = 1e4;               // loss = Σ_steps loss_scale · MSE(x, x_gt)
+  int64_t checkpoint_every = 0;          // see RolloutOptions
+};
+
+// The loss of options.steps substeps of `laws` from frame 0 of `truth`, restarted from the ground
+// truth every teacher_forcing_period substeps. Gradients are accumulated into whatever the laws
+// read: each segment goes backward as soon as its loss is known (no gradient crosses a restart),
+// so only one segment's graph is held at a time.
+double backpropagate_trajectory_loss(const DiffMpm& sim, const Trajectory& truth, const ConstitutiveLaws& laws,
+                                     const TrajectoryLossOptions& options);
+
+}  // namespace romp::nn
