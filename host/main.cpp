@@ -18,6 +18,7 @@
 #include "host/scene/scene_parser.h"
 #include "host/scene/scene_setup.h"
 #include "host/scene/toml_reader.h"
+#include "host/train_rom_command.h"
 #include "kernels/core/device.h"
 #include "kernels/core/error.h"
 #include "nn/torch_info.h"
@@ -134,6 +135,9 @@ int main(int argc, char** argv) {
   sweep_command->add_option("-j,--jobs", sweep_options.jobs, "Members run at once on this machine")
       ->check(CLI::PositiveNumber);
 
+  romp::TrainRomOptions train_rom_options;
+  romp::add_train_rom_command(app, train_rom_options);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -152,6 +156,7 @@ int main(int argc, char** argv) {
       sweep_options.run_arguments = {"--device", device, "--threads", std::to_string(threads), "--log-level", log_level};
       return sweep(scene_path, sweep_options);
     }
+    if (app.got_subcommand("train-rom")) return romp::train_rom_command(choice, threads, train_rom_options);
     const romp::scene::ParameterValues overrides = parse_overrides(sets);
     if (app.got_subcommand("check")) return check_scene(scene_path, overrides);
     return run_scene(choice, threads, scene_path, overrides, run_options, deterministic);
