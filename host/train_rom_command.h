@@ -27,8 +27,9 @@ struct TrainRomOptions {
 // Registers the subcommand and its options, which fill `options` when parsed.
 CLI::App* add_train_rom_command(CLI::App& app, TrainRomOptions& options);
 
-// Runs it; returns the exit code (README "Exit codes": 0 done, 3 unusable sweep or checkpoint, 130 interrupted
-// with a checkpoint to --resume from). Other failures throw romp::Error.
+// Runs it; returns the exit code (README "Exit codes": 0 done, 3 unusable sweep folder or --resume without a
+// checkpoint, 130 interrupted with a checkpoint to --resume from). Other failures, a checkpoint of other settings
+// among them, throw romp::Error.
 int train_rom_command(DeviceChoice choice, int threads, const TrainRomOptions& options);
 
 }  // namespace romp
