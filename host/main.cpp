@@ -13,6 +13,7 @@
 #include "host/build_info.h"
 #include "host/info_report.h"
 #include "host/run/position_error.h"
+#include "host/run/reduced_run_options.h"
 #include "host/learn_law_command.h"
 #include "host/run/scene_runner.h"
 #include "host/run/stage_table.h"
@@ -20,6 +21,7 @@
 #include "host/scene/scene_parser.h"
 #include "host/scene/scene_setup.h"
 #include "host/scene/toml_reader.h"
+#include "host/train_rom_command.h"
 #include "kernels/core/device.h"
 #include "kernels/core/error.h"
 #include "nn/torch_info.h"
@@ -70,8 +72,8 @@ int run_scene(romp::DeviceChoice choice, int threads, const std::string& path,
   const romp::Exec exec = romp::select_backend(choice, threads);
   const romp::run::RunResult r = romp::run::run_scene(exec, scene, options);
   if (r.interrupted) {
-    spdlog::warn("interrupted after frame {}; {} holds the frames so far; continue with --resume", r.last_frame,
-                 r.output_in_progress);
+    spdlog::warn("interrupted after frame {}; {} holds the frames so far{}", r.last_frame, r.output_in_progress,
+                 options.make_reduced ? "" : "; continue with --resume");
     return kExitInterrupted;
   }
   fmt::print("{}: {} particles, {} frames, {} substeps ({:.4g} s simulated) in {:.3f} s on {}\n", scene.name,
@@ -137,6 +139,8 @@ int main(int argc, char** argv) {
   run->add_flag("--ply", run_options.ply, "Also write a PLY point cloud per frame");
   run->add_flag("!--no-progress", run_options.progress, "No progress bar");
   run->add_option("--set", sets, "Override a declared parameter: name=value (repeatable)");
+  romp::run::ReducedRunOptions reduced_options;
+  romp::run::add_reduced_run_options(*run, reduced_options);
 
   CLI::App* sweep_command = app.add_subcommand("sweep", "Run every member of a scene's [sweep]");
   romp::run::SweepOptions sweep_options;
@@ -158,6 +162,8 @@ int main(int argc, char** argv) {
   compare_command->add_flag("--frames", per_frame, "Also print the error of every frame");
   romp::LearnLawOptions learn_law_options;
   CLI::App* learn_law = romp::add_learn_law_command(app, learn_law_options);
+  romp::TrainRomOptions train_rom_options;
+  romp::add_train_rom_command(app, train_rom_options);
 
   try {
     app.parse(argc, argv);
@@ -179,8 +185,13 @@ int main(int argc, char** argv) {
       return sweep(scene_path, sweep_options);
     }
     if (learn_law->parsed()) return romp::learn_law(choice, threads, learn_law_options);
+    if (app.got_subcommand("train-rom")) return romp::train_rom_command(choice, threads, train_rom_options);
     const romp::scene::ParameterValues overrides = parse_overrides(sets);
     if (app.got_subcommand("check")) return check_scene(scene_path, overrides);
+    if (!reduced_options.model.empty())
+      run_options.make_reduced = [&reduced_options](const romp::Exec& exec, const romp::scene::SceneSetup& setup) {
+        return romp::run::make_reduced_simulation(reduced_options, exec, setup);
+      };
     return run_scene(choice, threads, scene_path, overrides, run_options, deterministic);
   } catch (const CLI::ParseError& error) {
     return app.exit(error) == 0 ? 0 : kExitBadArguments;

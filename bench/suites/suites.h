@@ -6,6 +6,10 @@
 namespace romp::bench {
 
 void run_memory_suite(Context& context);
+// The deformation map's value and derivatives: romp's fused kernel against LibTorch.
+void run_mlp_suite(Context& context);
+// Error against run time of every ROM configuration on a scene (needs --scene and --rom-model).
+void run_rom_suite(Context& context);
 void run_step_suite(Context& context);
 // 3x3 SVDs per second: romp against Eigen (CPU) and cuSOLVER (GPU); needs memory first for the bandwidth fraction.
 void run_svd_suite(Context& context);

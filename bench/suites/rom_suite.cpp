@@ -1,0 +1,102 @@
+// rom suite (ROM paper, Fig. 20 and Tables 3-6): for a scene and a model trained on its sweep, the
+// full-order run and every quadrature × projection pair at 10, 50 and all sample points, on the same
+// device: wall seconds per simulated second, speedup over the full-order run, and the accumulated
+// position error against it. Needs --scene and --rom-model (and --set for the scene's parameters).
+#include <fmt/format.h>
+
+#include <string>
+#include <vector>
+
+#include "bench/suites/suites.h"
+#include "host/full_order_sim.h"
+#include "host/reduced_sim.h"
+#include "host/rom_model_loader.h"
+#include "host/run/position_error.h"
+#include "host/scene/scene_parser.h"
+#include "host/scene/scene_setup.h"
+
+namespace romp::bench {
+namespace {
+
+// Frame k's time; the last frame lands on the end time (as romp run's frames do).
+double frame_time(const scene::Scene& scene, std::int64_t frame) {
+  return frame == scene.frame_count ? scene.end_time : double(frame) / scene.frame_rate;
+}
+
+struct ReducedCase {
+  RomQuadrature quadrature;
+  RomProjection projection;
+  Index samples;  // 0: all
+  std::string name() const {
+    return fmt::format("{}_{}_{}", quadrature == RomQuadrature::Eulerian ? "eulerian" : "lagrangian",
+                       projection == RomProjection::Velocity ? "velocity" : "position",
+                       samples == 0 ? std::string("all") : std::to_string(samples));
+  }
+};
+
+}  // namespace
+
+void run_rom_suite(Context& context) {
+  const Options& options = context.options();
+  if (options.scene.empty() || options.rom_model.empty()) {
+    fmt::print("rom      skipped: needs --scene SCENE.toml and --rom-model MODEL.h5\n");
+    return;
+  }
+  const scene::Scene scene = scene::load_scene(options.scene, options.parameters);
+  const scene::SceneSetup setup = scene::build_scene(scene);
+  const LoadedReducedModel model = load_reduced_model(options.rom_model, setup.particles);
+  const std::int64_t frames = scene.frame_count;
+  fmt::print("rom      {}: {} material points, {} frames to t = {} s; {}\n", options.scene, setup.particles.count(),
+             frames, scene.end_time, model.description);
+
+  for (const Exec& exec : context.execs()) {
+    // The reference: the full-order run's positions at every frame (the last repeat's).
+    std::vector<std::vector<float>> reference;
+    const Measurement full = context.time(
+        "rom", "full_order", exec, frames, "frame",
+        [&] {
+          FullOrderSim sim(exec, setup.config, setup.particles);
+          reference.assign(1, sim.particles().positions_in_initial_order(exec));
+          for (std::int64_t k = 1; k <= frames; ++k) {
+            sim.advance_to(frame_time(scene, k));
+            reference.push_back(sim.particles().positions_in_initial_order(exec));
+          }
+        },
+        0.0, options.scene);
+    const std::string place = fmt::format("{}{}", full.backend, full.threads);
+    const double full_per_second = full.median_seconds() / scene.end_time;
+    context.record(fmt::format("rom.full_order.{}.wall_per_simulated_second", place), full_per_second);
+
+    std::vector<ReducedCase> cases;
+    for (const RomQuadrature quadrature : {RomQuadrature::Lagrangian, RomQuadrature::Eulerian})
+      for (const RomProjection projection : {RomProjection::PositionVelocity, RomProjection::Velocity})
+        for (const Index samples : {Index(10), Index(50), Index(0)}) cases.push_back({quadrature, projection, samples});
+    for (const ReducedCase& c : cases) {
+      ReducedOptions reduced;
+      reduced.quadrature = c.quadrature;
+      reduced.projection = c.projection;
+      reduced.samples = c.samples;
+      run::PositionError error;
+      const Measurement m = context.time(
+          "rom", c.name(), exec, frames, "frame",
+          [&] {
+            ReducedSim sim(exec, setup.config, setup.particles, model.map, model.xhat, reduced);
+            run::PositionErrorAccumulator accumulator;
+            accumulator.add_frame(0.0, sim.decode_positions(), reference[0]);
+            for (std::int64_t k = 1; k <= frames; ++k) {
+              sim.advance_to(frame_time(scene, k));
+              accumulator.add_frame(sim.time(), sim.decode_positions(), reference[std::size_t(k)]);
+            }
+            error = accumulator.result();
+          },
+          0.0, fmt::format("{} against the full-order run", options.scene));
+      const std::string key = fmt::format("rom.{}.{}", c.name(), place);
+      const double per_second = m.median_seconds() / scene.end_time;
+      context.record(key + ".wall_per_simulated_second", per_second);
+      context.record(key + ".speedup", full_per_second / per_second);
+      context.record(key + ".position_error_percent", error.percent);
+    }
+  }
+}
+
+}  // namespace romp::bench

@@ -1,0 +1,38 @@
+// Command-line options of reduced-order runs and the construction of their simulation.
+#include "host/run/reduced_run_options.h"
+
+#include <spdlog/spdlog.h>
+
+#include "host/rom_model_loader.h"
+
+namespace romp::run {
+
+void add_reduced_run_options(CLI::App& run, ReducedRunOptions& options) {
+  run.add_option("--rom", options.model, "Run reduced-order with this model file (romp train-rom)")
+      ->check(CLI::ExistingFile);
+  run.add_option("--quadrature", options.quadrature,
+                 "Reduced-order quadrature: eulerian (cost follows the samples) or lagrangian (every material point)")
+      ->check(CLI::IsMember({"eulerian", "lagrangian"}));
+  run.add_option("--projection", options.projection,
+                 "Reduced-order projection: velocity (Alg. 7) or position (position-velocity, Alg. 6)")
+      ->check(CLI::IsMember({"velocity", "position"}));
+  run.add_option("--samples", options.samples, "Sample material points per substep (0: all)")
+      ->check(CLI::NonNegativeNumber);
+  run.add_option("--sample-seed", options.seed, "Seed of the samples drawn each substep");
+}
+
+std::unique_ptr<Simulation> make_reduced_simulation(const ReducedRunOptions& options, const Exec& exec,
+                                                    const scene::SceneSetup& setup) {
+  LoadedReducedModel model = load_reduced_model(options.model, setup.particles);
+  spdlog::info("{}", model.description);
+  ReducedOptions reduced;
+  reduced.quadrature = options.quadrature == "eulerian" ? RomQuadrature::Eulerian : RomQuadrature::Lagrangian;
+  reduced.projection = options.projection == "velocity" ? RomProjection::Velocity : RomProjection::PositionVelocity;
+  reduced.samples = options.samples;
+  reduced.seed = options.seed;
+  spdlog::info("reduced-order run: {} quadrature, {} projection, {} samples per substep", options.quadrature,
+               options.projection, options.samples == 0 ? std::string("all") : std::to_string(options.samples));
+  return reduced_simulation(exec, setup.config, setup.particles, std::move(model.map), std::move(model.xhat), reduced);
+}
+
+}  // namespace romp::run

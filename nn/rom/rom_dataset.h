@@ -1,0 +1,66 @@
+// Training data for the ROM: a sweep folder's manifest and member snapshots as tensors on the training device,
+// split by parameter instance into train and test, with the material points the encoder reads.
+#pragma once
+
+#include <torch/torch.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "nn/rom/deformation_map.h"
+
+namespace romp::nn::rom {
+
+// One member of the sweep (a parameter instance μ), as DIR/manifest.json lists it.
+struct SweepMember {
+  std::int64_t index = 0;
+  std::vector<double> values;  // μ, in the sweep's parameter order
+  bool test = false;           // held out from training
+  std::string snapshot;        // file name in the sweep folder, e.g. "member_000003.h5"
+
+  bool operator==(const SweepMember& other) const;
+};
+
+// The snapshots of one split, member by member, frames in time order; P material points each, in the
+// snapshots' initial particle order.
+struct SnapshotSet {
+  torch::Tensor x, v;      // [S, P, 3] f32 positions (m) and velocities (m/s)
+  torch::Tensor F;         // [S, P, 3, 3] f32 deformation gradients
+  torch::Tensor next;      // [S] i64: the snapshot of frame n+1 of the same member, or itself for a last frame
+  torch::Tensor has_next;  // [S] f32: 1 where frame n+1 exists, else 0
+  torch::Tensor dt;        // [S] f32: t_{n+1} − t_n, 1 for a last frame (its rate x̂_{n+1} − x̂_n is 0)
+
+  std::int64_t size() const { return x.defined() ? x.size(0) : 0; }
+};
+
+struct RomDatasetOptions {
+  std::int64_t encoder_points = 1000;  // Q: material points in the encoder's input; every point if P ≤ Q or Q = 0
+  std::uint64_t seed = 0;              // chooses those points
+  torch::Device device = torch::kCPU;  // where every tensor lives
+};
+
+struct RomDataset {
+  std::string dir;  // the sweep folder
+  std::vector<std::string> parameter_names;
+  std::vector<SweepMember> members;  // manifest order
+  torch::Tensor X;                   // [P, 3] f32 reference positions, the same in every member
+  torch::Tensor encoder_indices;     // [Q] i64, increasing: the points the encoder reads
+  SnapshotSet train, test;
+
+  std::int64_t particle_count() const { return X.size(0); }
+  // The reference bounding box of X (an axis the body does not span gets the largest extent) and the mean and
+  // standard deviation of the training displacements x − X per component (floored, see kMinDisplacementStd).
+  MapNormalisation normalisation() const;
+};
+
+// Displacement components whose standard deviation is below this fraction of the body's size count as
+// motionless; their standard deviation is raised to it so the standardised output stays finite.
+inline constexpr double kMinDisplacementStd = 1e-6;
+
+// Reads DIR/manifest.json (format "romp-sweep") and every member's snapshot. The snapshots must hold x, v and F
+// per frame and share one reference configuration X; at least one member must be for training. Throws
+// romp::Error naming the folder, the member and the file.
+RomDataset load_rom_dataset(const std::string& dir, const RomDatasetOptions& options);
+
+}  // namespace romp::nn::rom
