@@ -200,16 +200,7 @@ void ReducedSim::build_occupancy(const mpm::ParticleInit& reference) {
 }
 
 rom::DeformationMapView<float> ReducedSim::map_view() const {
-  rom::DeformationMapView<float> view;
-  view.latent = map_.latent;
-  view.hidden_layers = map_.hidden_layers;
-  view.width = map_.width;
-  view.parameters = Span<const float>(map_parameters_.data(), map_parameters_.size());
-  view.X_min = map_.X_min;
-  view.X_scale = map_.X_scale;
-  view.u_mean = map_.u_mean;
-  view.u_std = map_.u_std;
-  return view;
+  return rom::map_view(map_, Span<const float>(map_parameters_.data(), map_parameters_.size()));
 }
 
 void ReducedSim::evaluate_map(Vec3Planes<const float> X, const rom::DeformationMapOutputs<float>& out) {

@@ -59,15 +59,8 @@ void run_mlp_suite(Context& context) {
       const auto X = DeviceBuffer<float>::from_host(backend, batch.X_planes, exec.stream);
       const auto xhat = DeviceBuffer<float>::from_host(backend, batch.xhat, exec.stream);
       DeviceBuffer<float> x(backend, 3 * n), F(backend, 9 * n), dg(backend, 3 * r * n);
-      rom::DeformationMapView<float> view;
-      view.latent = r;
-      view.hidden_layers = weights.hidden_layers;
-      view.width = weights.width;
-      view.parameters = Span<const float>(parameters.data(), parameters.size());
-      view.X_min = weights.X_min;
-      view.X_scale = weights.X_scale;
-      view.u_mean = weights.u_mean;
-      view.u_std = weights.u_std;
+      const rom::DeformationMapView<float> view =
+          rom::map_view(weights, Span<const float>(parameters.data(), parameters.size()));
       const std::string size = fmt::format("{}k", nominal / 1000);
       // context.time returns a reference into a vector that the next measurement may move: keep copies.
       const Measurement fused = context.time(

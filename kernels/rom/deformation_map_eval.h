@@ -54,6 +54,20 @@ struct DeformationMapWeights {
   Vec3<float> u_mean = Vec3<float>::zero(), u_std = Vec3<float>::zero();
 };
 
+// The view of `weights` whose parameters are `parameters`, their copy on the evaluating backend.
+inline DeformationMapView<float> map_view(const DeformationMapWeights& weights, Span<const float> parameters) {
+  DeformationMapView<float> view;
+  view.latent = weights.latent;
+  view.hidden_layers = weights.hidden_layers;
+  view.width = weights.width;
+  view.parameters = parameters;
+  view.X_min = weights.X_min;
+  view.X_scale = weights.X_scale;
+  view.u_mean = weights.u_mean;
+  view.u_std = weights.u_std;
+  return view;
+}
+
 // Outputs for n points. Any of the three may be left empty (null data) to skip it; the Jacobian is
 // computed only when F or dg_dxhat is asked for.
 template <class T>

@@ -41,15 +41,8 @@ void expect_agreement(const MapArchitecture& architecture) {
   const torch::Tensor X_planes = X.t().contiguous();
   const torch::Tensor xhat_values = xhat.squeeze(0).contiguous();
   torch::Tensor x = torch::empty({3, n}), F = torch::empty({9, n}), dg = torch::empty({3 * r, n});
-  ::romp::rom::DeformationMapView<float> view;
-  view.latent = weights.latent;
-  view.hidden_layers = weights.hidden_layers;
-  view.width = weights.width;
-  view.parameters = Span<const float>(parameters.data(), parameters.size());
-  view.X_min = weights.X_min;
-  view.X_scale = weights.X_scale;
-  view.u_mean = weights.u_mean;
-  view.u_std = weights.u_std;
+  const ::romp::rom::DeformationMapView<float> view =
+      ::romp::rom::map_view(weights, Span<const float>(parameters.data(), parameters.size()));
   ::romp::rom::evaluate_deformation_map<float>(
       exec, view, Span<const float>(xhat_values.data_ptr<float>(), r),
       Vec3Planes<const float>(X_planes.data_ptr<float>(), n),
