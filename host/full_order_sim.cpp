@@ -12,16 +12,6 @@
 
 namespace romp {
 
-const char* stage_name(mpm::Stage stage) {
-  switch (stage) {
-    case mpm::Stage::P2G: return "p2g";
-    case mpm::Stage::GridUpdate: return "grid_update";
-    case mpm::Stage::G2P: return "g2p";
-    case mpm::Stage::Plasticity: return "plasticity";
-  }
-  return "unknown";
-}
-
 FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::ParticleInit& init)
     : exec_(exec),
       config_(std::move(config)),
@@ -62,30 +52,12 @@ void FullOrderSim::substep(float dt) {
 
   time_ += dt;
   ++steps_;
-  check_finite();
-}
-
-void FullOrderSim::check_finite() {
-  const std::vector<std::int64_t> failures = inputs_.failures();
-  for (int s = 0; s < mpm::kStageCount; ++s) {
-    if (failures[s] == mpm::kNoFailure) continue;
-    const auto stage = mpm::Stage(s);
-    std::int64_t index = failures[s];
-    std::string what;
-    if (stage == mpm::Stage::GridUpdate) {
-      what = fmt::format("grid node {}", index);
-    } else {
-      // Report the particle by its initial index, which is what outputs and scenes refer to.
-      const mpm::ParticleView view = particles_.view();
-      std::int32_t id = 0;
-      memory::copy(&id, Backend::Cpu, view.id.data() + index, exec_.backend, sizeof id, exec_.stream);
-      index = id;
-      what = fmt::format("particle {}", index);
-    }
-    throw NonFiniteError(fmt::format("non-finite value at step {} (t = {:.6g} s), stage {}: {}", steps_, time_,
-                                     stage_name(stage), what),
-                         steps_, stage, index);
-  }
+  inputs_.check_stages("", steps_, time_, [this](mpm::Stage, std::int64_t slot) {
+    // Report the particle by its initial index, which is what outputs and scenes refer to.
+    std::int32_t id = 0;
+    memory::copy(&id, Backend::Cpu, particles_.view().id.data() + slot, exec_.backend, sizeof id, exec_.stream);
+    return std::pair<std::int64_t, std::string>(id, fmt::format("particle {}", id));
+  });
 }
 
 void FullOrderSim::advance_to(double t) {

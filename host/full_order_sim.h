@@ -15,22 +15,6 @@
 
 namespace romp {
 
-// Thrown when a stage produces a non-finite value; the run stops at the end of that substep.
-class NonFiniteError : public Error {
- public:
-  NonFiniteError(const std::string& message, std::int64_t step, mpm::Stage stage, std::int64_t index)
-      : Error(message), step_(step), stage_(stage), index_(index) {}
-  std::int64_t step() const { return step_; }
-  mpm::Stage stage() const { return stage_; }
-  std::int64_t index() const { return index_; }  // particle id (initial order), or node for the grid update
-
- private:
-  std::int64_t step_;
-  mpm::Stage stage_;
-  std::int64_t index_;
-};
-
-const char* stage_name(mpm::Stage stage);
 
 class FullOrderSim {
  public:
@@ -57,7 +41,6 @@ class FullOrderSim {
   std::vector<std::pair<std::string, double>> stage_seconds() const;
 
  private:
-  void check_finite();
 
   Exec exec_;
   FullOrderConfig config_;

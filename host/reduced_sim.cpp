@@ -22,7 +22,8 @@ namespace romp {
 namespace {
 
 // k distinct members of `pool`, drawn uniformly (Floyd's algorithm: k draws, no pass over the pool).
-std::vector<std::int32_t> draw_distinct(const std::vector<std::int32_t>& pool, std::size_t k, geometry::Random& random) {
+std::vector<std::int32_t> draw_distinct(const std::vector<std::int32_t>& pool, std::size_t k,
+                                        geometry::Random& random) {
   const std::size_t n = pool.size();
   if (k >= n) return pool;
   std::unordered_set<std::size_t> chosen;
@@ -67,7 +68,8 @@ void ReducedSim::Quadrature::allocate(Backend backend, Index n) {
   C.fill_zero();  // quadrature points carry no affine velocity: the transfer is PIC (ROM paper, Alg. 5)
   mass = DeviceBuffer<float>(backend, n);
   volume0 = DeviceBuffer<float>(backend, n);
-  for (DeviceBuffer<std::int32_t>* ints : {&material, &group, &id, &status}) *ints = DeviceBuffer<std::int32_t>(backend, n);
+  for (DeviceBuffer<std::int32_t>* ints : {&material, &group, &id, &status})
+    *ints = DeviceBuffer<std::int32_t>(backend, n);
 }
 
 mpm::ParticleView ReducedSim::Quadrature::view() {
@@ -327,8 +329,10 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
   inversion.tolerance = options_.inversion_tolerance * dx;
   rom::eulerian_quadrature(exec_, map_view(), Span<const float>(xhat_device_.data(), latent_), vhat_device_.span(),
                            occupancy_, densities_.span(), dx * dx * dx / float(l * l * l), inversion,
-                           Vec3Planes<const float>(quadrature_.x.data(), count), Vec3Planes<const float>(guess.data(), count),
-                           {Vec3Planes<float>(quadrature_.X.data(), count), Vec3Planes<float>(quadrature_.v.data(), count),
+                           Vec3Planes<const float>(quadrature_.x.data(), count),
+                           Vec3Planes<const float>(guess.data(), count),
+                           {Vec3Planes<float>(quadrature_.X.data(), count),
+                            Vec3Planes<float>(quadrature_.v.data(), count),
                             Mat3Planes<float>(quadrature_.F.data(), count), quadrature_.mass.span(),
                             quadrature_.volume0.span(), quadrature_.material.span(), quadrature_.status.span()});
   const std::vector<std::int32_t> status = quadrature_.status.to_host(exec_.stream);
@@ -384,7 +388,13 @@ void ReducedSim::substep(float dt) {
   timed([&] { mpm::update_grid(exec_, grid, step); });
   const mpm::ParticleView samples = samples_.view();
   timed([&] { mpm::grid_to_particle(exec_, samples, grid, step); });
-  check_stages();
+  inputs_.check_stages("reduced simulation: ", steps_, time_, [this](mpm::Stage stage, std::int64_t slot) {
+    // P2G runs over the quadrature points; G2P over the samples, reported as their material points.
+    if (stage != mpm::Stage::G2P)
+      return std::pair<std::int64_t, std::string>(slot, fmt::format("quadrature point {}", slot));
+    const std::int64_t point = sample_index_.to_host(exec_.stream)[std::size_t(slot)];
+    return std::pair<std::int64_t, std::string>(point, fmt::format("sample material point {}", point));
+  });
 
   // Alg. 6 / 7: v̂_{n+1} from the trial velocities on the tangent space at x̂_n; then x̂_{n+1}.
   timed([&] {
@@ -444,25 +454,6 @@ std::vector<float> ReducedSim::project_positions(const std::vector<float>& guess
   }
   ++unconverged_projections_;
   return y;
-}
-
-void ReducedSim::check_stages() const {
-  const std::vector<std::int64_t> failures = inputs_.failures();
-  for (int s = 0; s < mpm::kStageCount; ++s) {
-    if (failures[s] == mpm::kNoFailure) continue;
-    const auto failed = mpm::Stage(s);
-    std::int64_t index = failures[s];
-    std::string what = fmt::format("quadrature point {}", index);
-    if (failed == mpm::Stage::GridUpdate) {
-      what = fmt::format("grid node {}", index);
-    } else if (failed == mpm::Stage::G2P) {  // G2P runs over the samples: report the material point
-      index = sample_index_.to_host(exec_.stream)[std::size_t(index)];
-      what = fmt::format("sample material point {}", index);
-    }
-    throw NonFiniteError(fmt::format("reduced simulation: non-finite value at step {} (t = {:.6g} s), stage {}: {}",
-                                     steps_, time_, stage_name(failed), what),
-                         steps_, failed, index);
-  }
 }
 
 void ReducedSim::check_latent(const char* stage) const {

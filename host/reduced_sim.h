@@ -106,8 +106,6 @@ class ReducedSim {
   std::pair<std::vector<double>, double> solve_projection(Span<const float> dg_dxhat, Vec3Planes<const float> target,
                                                           Vec3Planes<const float> reference);
   std::vector<float> project_positions(const std::vector<float>& guess, Index samples);
-  // Throws NonFiniteError naming the stage and material point when a kernel of this substep saw one.
-  void check_stages() const;
   // Throws NonFiniteError when x̂ or v̂ is not finite after `stage`.
   void check_latent(const char* stage) const;
 

@@ -80,6 +80,32 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   return step;
 }
 
+const char* stage_name(mpm::Stage stage) {
+  switch (stage) {
+    case mpm::Stage::P2G: return "p2g";
+    case mpm::Stage::GridUpdate: return "grid_update";
+    case mpm::Stage::G2P: return "g2p";
+    case mpm::Stage::Plasticity: return "plasticity";
+  }
+  return "unknown";
+}
+
+void StepInputs::check_stages(const std::string& who, std::int64_t step, double time,
+                              const FailureDescriber& describe) const {
+  const std::vector<std::int64_t> failures = first_failure_.to_host(exec_.stream);
+  for (int s = 0; s < mpm::kStageCount; ++s) {
+    if (failures[s] == mpm::kNoFailure) continue;
+    const auto stage = mpm::Stage(s);
+    const auto [index, what] = stage == mpm::Stage::GridUpdate
+                                   ? std::pair<std::int64_t, std::string>(failures[s],
+                                                                          fmt::format("grid node {}", failures[s]))
+                                   : describe(stage, failures[s]);
+    throw NonFiniteError(fmt::format("{}non-finite value at step {} (t = {:.6g} s), stage {}: {}", who, step, time,
+                                     stage_name(stage), what),
+                         step, stage, index);
+  }
+}
+
 void advance_clock(double& time, double t, const std::function<double()>& stable_dt,
                    const std::function<void(float)>& substep) {
   // Substeps shorter than this fraction of the stable Δt are merged into the previous one.

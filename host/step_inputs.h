@@ -1,18 +1,42 @@
 // StepInputs: what an MPM substep reads besides the particles and the grid (the material table, the
-// colliders, Dirichlet motions and loads at the substep's time, and the failure slots), shared by
-// FullOrderSim and ReducedSim so both see one scene the same way.
+// colliders, Dirichlet motions and loads at the substep's time, and the failure slots and their
+// report), and the clock loop, shared by FullOrderSim and ReducedSim so both see one scene the same way.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "kernels/core/device_buffer.h"
+#include "kernels/core/error.h"
 #include "kernels/core/exec.h"
 #include "host/sim_config.h"
 #include "kernels/mpm/step.h"
 
 namespace romp {
+
+// Thrown when a stage produces a non-finite value; the run stops at the end of that substep.
+class NonFiniteError : public Error {
+ public:
+  NonFiniteError(const std::string& message, std::int64_t step, mpm::Stage stage, std::int64_t index)
+      : Error(message), step_(step), stage_(stage), index_(index) {}
+  std::int64_t step() const { return step_; }
+  mpm::Stage stage() const { return stage_; }
+  std::int64_t index() const { return index_; }  // particle id (initial order), or node for the grid update
+
+ private:
+  std::int64_t step_;
+  mpm::Stage stage_;
+  std::int64_t index_;
+};
+
+const char* stage_name(mpm::Stage stage);
+
+// The particle (or other quantity) a stage's recorded index stands for: the index to report and how
+// to name it, e.g. a sorted slot mapped to the particle's initial index, "particle 12".
+using FailureDescriber = std::function<std::pair<std::int64_t, std::string>(mpm::Stage stage, std::int64_t index)>;
 
 class StepInputs {
  public:
@@ -22,8 +46,10 @@ class StepInputs {
   // The parameters of a substep [time, time + dt]: colliders moved to `time`, the Dirichlet motions
   // and the loads active then, and failure slots reset to "no failure".
   mpm::StepParams at(double time, float dt);
-  // The failure slots after a substep (kStageCount entries, kNoFailure where the stage saw none).
-  std::vector<std::int64_t> failures() const { return first_failure_.to_host(exec_.stream); }
+  // After a substep: throws NonFiniteError for the first stage that recorded a non-finite value,
+  // "<who>non-finite value at step S (t = T s), stage X: <what>". Grid-update indices are reported as
+  // grid nodes; every other stage's index goes through `describe`.
+  void check_stages(const std::string& who, std::int64_t step, double time, const FailureDescriber& describe) const;
 
   bool plastic() const { return plastic_; }
   // The largest dilatational wave speed sqrt((λ + 2μ) / ρ) over the materials (m/s), for the CFL rule.
