@@ -17,27 +17,17 @@ ROMP_HD_INLINE void row_times_matrix(const T* a, int terms, const T* b, int coun
   }
 }
 
-// Row r of Y = X Wᵀ: X[r] times W_t.
+// Row r of out = A B for row-major A [rows, terms] and B [terms, count]: Y = X Wᵀ (A = X, B = Wᵀ)
+// and dX = dY W (A = dY, B = W).
 template <class T>
-struct DenseForwardRow {
-  DenseShape shape;
-  Span<const T> X, W_t;
-  Span<T> Y;
+struct RowsTimesMatrix {
+  Span<const T> A;
+  int terms;
+  Span<const T> B;
+  int count;
+  Span<T> out;
   ROMP_HD void operator()(Index r) const {
-    row_times_matrix(X.data() + r * shape.inputs, shape.inputs, W_t.data(), shape.outputs,
-                     Y.data() + r * shape.outputs);
-  }
-};
-
-// Row r of dX = dY W: dY[r] times W.
-template <class T>
-struct InputGradientRow {
-  DenseShape shape;
-  Span<const T> W, dY;
-  Span<T> dX;
-  ROMP_HD void operator()(Index r) const {
-    row_times_matrix(dY.data() + r * shape.outputs, shape.outputs, W.data(), shape.inputs,
-                     dX.data() + r * shape.inputs);
+    row_times_matrix(A.data() + r * terms, terms, B.data(), count, out.data() + r * count);
   }
 };
 
@@ -62,13 +52,13 @@ struct WeightGradientRow {
 
 template <class T>
 void dense_forward(const Exec& exec, const DenseShape& shape, Span<const T> X, Span<const T> W_t, Span<T> Y) {
-  for_each(exec, shape.rows, DenseForwardRow<T>{shape, X, W_t, Y});
+  for_each(exec, shape.rows, RowsTimesMatrix<T>{X, shape.inputs, W_t, shape.outputs, Y});
 }
 
 template <class T>
 void dense_backward(const Exec& exec, const DenseShape& shape, Span<const T> X, Span<const T> W, Span<const T> dY,
                     Span<T> dX, Span<T> dW) {
-  for_each(exec, shape.rows, InputGradientRow<T>{shape, W, dY, dX});
+  for_each(exec, shape.rows, RowsTimesMatrix<T>{dY, shape.outputs, W, shape.inputs, dX});
   for_each(exec, shape.outputs, WeightGradientRow<T>{shape, X, dY, dW});
 }
 
