@@ -1,5 +1,5 @@
 // Field names, header checks, the paths beside a snapshot, and the plane/row transposition.
-#include "host/io/snapshot_layout.h"
+#include "nn/snapshot_layout.h"
 
 #include <filesystem>
 

@@ -1,5 +1,5 @@
 // SnapshotReader: format checks, header arrays back to planes, frames on demand.
-#include "host/io/snapshot_reader.h"
+#include "nn/snapshot_reader.h"
 
 #include <fmt/format.h>
 

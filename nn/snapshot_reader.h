@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "host/io/snapshot_layout.h"
 #include "nn/hdf5_file.h"
+#include "nn/snapshot_layout.h"
 
 namespace romp::io {
 

@@ -1,5 +1,5 @@
 // Format checks on opening and the partial-then-rename write of versioned HDF5 files.
-#include "nn/rom/versioned_file.h"
+#include "nn/versioned_file.h"
 
 #include <fmt/format.h>
 
@@ -8,7 +8,7 @@
 
 #include "kernels/core/error.h"
 
-namespace romp::nn::rom {
+namespace romp::nn {
 
 hdf5::File open_versioned_file(const std::string& path, const FileFormat& format) {
   hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadOnly, format.role);
@@ -39,4 +39,4 @@ void write_versioned_file(const std::string& path, const FileFormat& format,
   if (error) throw Error(fmt::format("{} {}: cannot rename {} to it: {}", format.role, path, partial, error.message()));
 }
 
-}  // namespace romp::nn::rom
+}  // namespace romp::nn

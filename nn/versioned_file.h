@@ -1,5 +1,5 @@
-// HDF5 files that name their format and version in two root attributes (models, checkpoints, snapshots): the
-// check on opening, and the write to "<path>.partial" renamed to `path` once complete.
+// HDF5 files that name their format and version in two root attributes (ROM models and checkpoints,
+// neural-law files): the check on opening, and the write to "<path>.partial" renamed to `path` once complete.
 #pragma once
 
 #include <cstdint>
@@ -8,10 +8,10 @@
 
 #include "nn/hdf5_file.h"
 
-namespace romp::nn::rom {
+namespace romp::nn {
 
 struct FileFormat {
-  const char* role;         // in messages and HDF5 errors: "model", "checkpoint", "snapshot"
+  const char* role;         // in messages and HDF5 errors: "model", "checkpoint", "neural law"
   const char* name;         // root attribute format, e.g. "romp-rom-model"
   const char* description;  // "a romp ROM model", for "not a romp ROM model: ..."
   std::int64_t version;     // the newest format_version this romp reads (and writes); 1 is the oldest
@@ -26,4 +26,4 @@ hdf5::File open_versioned_file(const std::string& path, const FileFormat& format
 void write_versioned_file(const std::string& path, const FileFormat& format,
                           const std::function<void(hdf5::File&)>& fill);
 
-}  // namespace romp::nn::rom
+}  // namespace romp::nn

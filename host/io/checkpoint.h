@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <string>
 
-#include "host/io/snapshot_layout.h"
+#include "nn/snapshot_layout.h"
 
 namespace romp::io {
 

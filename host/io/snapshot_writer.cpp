@@ -10,9 +10,9 @@
 
 #include "host/io/atomic_file.h"
 #include "host/io/ply_export.h"
-#include "host/io/snapshot_reader.h"
 #include "host/io/xdmf.h"
 #include "kernels/core/error.h"
+#include "nn/snapshot_reader.h"
 
 namespace romp::io {
 namespace {

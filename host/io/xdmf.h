@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "host/io/snapshot_layout.h"
+#include "nn/snapshot_layout.h"
 
 namespace romp::io {
 

@@ -3,9 +3,9 @@
 
 #include <fmt/format.h>
 
-#include "host/io/snapshot_reader.h"
 #include "host/scene/scene_parser.h"
 #include "kernels/core/error.h"
+#include "nn/snapshot_reader.h"
 
 namespace romp::nclaw {
 

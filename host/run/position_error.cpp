@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "host/io/snapshot_reader.h"
 #include "kernels/core/error.h"
+#include "nn/snapshot_reader.h"
 
 namespace romp::run {
 namespace {

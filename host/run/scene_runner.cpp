@@ -11,15 +11,15 @@
 
 #include "host/build_info.h"
 #include "host/full_order_sim.h"
-#include "host/run/simulation.h"
 #include "host/io/checkpoint.h"
 #include "host/io/io_worker.h"
-#include "host/io/snapshot_layout.h"
 #include "host/io/snapshot_writer.h"
 #include "host/run/interrupt.h"
 #include "host/run/progress.h"
+#include "host/run/simulation.h"
 #include "host/scene/scene_setup.h"
 #include "host/scene/toml_reader.h"
+#include "nn/snapshot_layout.h"
 
 namespace romp::run {
 namespace {

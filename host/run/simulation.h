@@ -8,11 +8,11 @@
 #include <utility>
 #include <vector>
 
-#include "host/io/snapshot_layout.h"
 #include "host/reduced_sim.h"
 #include "host/sim_config.h"
 #include "kernels/core/exec.h"
 #include "kernels/mpm/particle_set.h"
+#include "nn/snapshot_layout.h"
 
 namespace romp::run {
 

@@ -2,15 +2,14 @@
 #include "nn/nclaw/law_file.h"
 
 #include <cmath>
-#include <filesystem>
 
 #include "kernels/core/error.h"
-#include "nn/hdf5_file.h"
+#include "nn/versioned_file.h"
 
 namespace romp::nn {
 namespace {
 
-constexpr const char* kRole = "neural law";
+constexpr FileFormat kLawFile{"neural law", kLawFileFormat, "a romp neural-law file", kLawFileVersion};
 constexpr const char* kActivation = "gelu";
 // Widths a file may declare: the paper's is 64; the bound only rejects absurd (corrupted) values.
 constexpr int64_t kMaxWidth = 4096;
@@ -39,11 +38,7 @@ void read_network(const hdf5::File& file, const std::string& group, torch::nn::M
 }  // namespace
 
 void write_law_file(const std::string& path, const NeuralLaws& laws, const LawTrainingRecord& training) {
-  const std::string partial = path + ".partial";
-  {
-    hdf5::File file = hdf5::File::create(partial, kRole);
-    file.write_attribute("format", kLawFileFormat);
-    file.write_attribute("format_version", kLawFileVersion);
+  write_versioned_file(path, kLawFile, [&](hdf5::File& file) {
     file.write_attribute("inputs", kLawInputs);
     file.write_attribute("width", laws.elastic->parameters().front().size(0));
     file.write_attribute("outputs", kLawOutputs);
@@ -58,20 +53,12 @@ void write_law_file(const std::string& path, const NeuralLaws& laws, const LawTr
       record.write_attribute("reconstruction_error", training.reconstruction_error);
       record.write_dataset("loss", {uint64_t(training.loss.size())}, training.loss);
     }
-    file.close();
-  }
-  std::filesystem::rename(partial, path);
+  });
 }
 
 LawFile read_law_file(const std::string& path) {
-  const hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadOnly, kRole);
+  const hdf5::File file = open_versioned_file(path, kLawFile);
   const std::string& label = file.label();
-  const std::string format = file.read_string_attribute("format");
-  ROMP_CHECK(format == kLawFileFormat,
-             label + ": attribute format is '" + format + "', expected '" + kLawFileFormat + "'");
-  const int64_t version = file.read_int64_attribute("format_version");
-  ROMP_CHECK(version == kLawFileVersion, label + ": attribute format_version is " + std::to_string(version) +
-                                             ", this build reads " + std::to_string(kLawFileVersion));
   const int64_t inputs = file.read_int64_attribute("inputs"), outputs = file.read_int64_attribute("outputs");
   ROMP_CHECK(inputs == kLawInputs && outputs == kLawOutputs,
              label + ": attributes inputs, outputs are " + std::to_string(inputs) + ", " + std::to_string(outputs) +

@@ -5,7 +5,7 @@
 
 #include "kernels/core/error.h"
 #include "nn/rom/rom_model_file.h"
-#include "nn/rom/versioned_file.h"
+#include "nn/versioned_file.h"
 
 namespace romp::nn::rom {
 namespace {

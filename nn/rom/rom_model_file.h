@@ -34,7 +34,7 @@
 
 #include "nn/hdf5_file.h"
 #include "nn/rom/rom_model.h"
-#include "nn/rom/versioned_file.h"
+#include "nn/versioned_file.h"
 
 namespace romp::nn::rom {
 

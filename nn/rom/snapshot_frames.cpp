@@ -1,51 +1,40 @@
-// Snapshot file → tensors: format checks, the reference positions and the x, v, F of every complete frame.
+// Snapshot file → tensors, through the one snapshot reader.
 #include "nn/rom/snapshot_frames.h"
 
 #include <fmt/format.h>
 
-#include <algorithm>
-
 #include "kernels/core/error.h"
-#include "nn/hdf5_file.h"
+#include "nn/snapshot_reader.h"
 
 namespace romp::nn::rom {
 namespace {
 
-// Frame groups are "/frames/NNNNNN" (six digits, io::frame_group_name).
-std::string frame_group(std::int64_t frame) { return fmt::format("/frames/{:06d}", frame); }
-
-torch::Tensor read_floats(const hdf5::Group& group, const std::string& path, const std::vector<std::int64_t>& shape) {
-  std::vector<float> values = group.read_dataset<float>(path, hdf5::Shape(shape.begin(), shape.end()));
-  return torch::from_blob(values.data(), shape, torch::kFloat32).clone();
+// `components` planes of n particles → [n, components] rows.
+torch::Tensor rows(const std::vector<float>& planes, std::int64_t n, std::int64_t components) {
+  return torch::from_blob(const_cast<float*>(planes.data()), {components, n}, torch::kFloat32).t().contiguous();
 }
 
 }  // namespace
 
 SnapshotFrames read_snapshot_frames(const std::string& path) {
-  const hdf5::File file = open_versioned_file(path, kSnapshotFileFormat);
-  const std::vector<std::string> fields = file.read_strings_attribute("fields");
-  for (const char* needed : {"v", "F"}) {
-    if (std::find(fields.begin(), fields.end(), needed) == fields.end()) {
-      throw Error(fmt::format("{}: attribute /fields lacks \"{}\": ROM training needs x, v and F per frame (set the "
-                              "scene's output.fields)",
-                              file.label(), needed));
-    }
-  }
-  const std::int64_t particles = file.read_int64_attribute("particle_count");
-  if (particles < 1) throw Error(fmt::format("{}: attribute /particle_count is {}, expected >= 1", file.label(), particles));
-  // Frames below frame_count are complete; a crashed run may leave a later, unfinished group, which is ignored.
-  const std::int64_t frames = file.read_int64_attribute("frame_count");
-  if (frames < 1) throw Error(fmt::format("{}: attribute /frame_count is {}: no complete frame", file.label(), frames));
+  const io::SnapshotReader reader(path);
+  for (const io::FieldMask needed : {io::kFieldV, io::kFieldF})
+    if (!(reader.fields() & needed))
+      throw Error(fmt::format("snapshot {}: attribute /fields lacks \"{}\": ROM training needs x, v and F per "
+                              "frame (set the scene's output.fields)",
+                              path, needed == io::kFieldV ? "v" : "F"));
+  if (reader.frame_count() < 1) throw Error(fmt::format("snapshot {}: no complete frame", path));
 
+  const std::int64_t n = reader.particle_count();
   SnapshotFrames s;
-  s.X = read_floats(file, "/particles/X", {particles, 3});
+  s.X = rows(reader.header().X, n, 3);
   std::vector<torch::Tensor> x, v, F;
-  for (std::int64_t k = 0; k < frames; ++k) {
-    const std::string group = frame_group(k);
-    s.times.push_back(file.open_group(group).read_double_attribute("time"));
-    x.push_back(read_floats(file, group + "/x", {particles, 3}));
-    v.push_back(read_floats(file, group + "/v", {particles, 3}));
-    F.push_back(read_floats(file, group + "/F", {particles, 3, 3}));
+  for (std::int64_t k = 0; k < reader.frame_count(); ++k) {
+    const io::FrameData frame = reader.read_frame(k);
+    s.times.push_back(frame.time);
+    x.push_back(rows(frame.x, n, 3));
+    v.push_back(rows(frame.v, n, 3));
+    F.push_back(rows(frame.F, n, 9).view({n, 3, 3}));  // plane 3 i + j holds F_ij
   }
   s.x = torch::stack(x);
   s.v = torch::stack(v);

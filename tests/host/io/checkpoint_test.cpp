@@ -6,9 +6,9 @@
 #include <random>
 
 #include "host/io/checkpoint.h"
-#include "host/io/snapshot_layout.h"
 #include "kernels/core/error.h"
 #include "nn/hdf5_file.h"
+#include "nn/snapshot_layout.h"
 #include "tests/host/io/io_test_support.h"
 
 namespace romp::io::testing {

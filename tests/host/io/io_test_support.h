@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "host/io/snapshot_layout.h"
-#include "tests/support/scratch_folder.h"
 #include "kernels/core/error.h"
+#include "nn/snapshot_layout.h"
+#include "tests/support/scratch_folder.h"
 
 namespace romp::io::testing {
 

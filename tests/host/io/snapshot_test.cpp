@@ -7,10 +7,10 @@
 #include <limits>
 #include <random>
 
-#include "host/io/snapshot_reader.h"
 #include "host/io/snapshot_writer.h"
 #include "kernels/core/error.h"
 #include "nn/hdf5_file.h"
+#include "nn/snapshot_reader.h"
 #include "tests/host/io/io_test_support.h"
 
 namespace romp::io::testing {

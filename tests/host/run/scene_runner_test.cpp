@@ -8,9 +8,9 @@
 #include <filesystem>
 
 #include "host/full_order_sim.h"
-#include "host/io/snapshot_layout.h"
-#include "host/io/snapshot_reader.h"
 #include "host/scene/scene_parser.h"
+#include "nn/snapshot_layout.h"
+#include "nn/snapshot_reader.h"
 #include "tests/host/rom_test_maps.h"
 #include "tests/support/scratch_folder.h"
 

@@ -9,7 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "host/io/snapshot_reader.h"
+#include "nn/snapshot_reader.h"
 #include "tests/support/scratch_folder.h"
 
 namespace romp::run {

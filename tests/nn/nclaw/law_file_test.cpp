@@ -78,7 +78,8 @@ TEST(LawFile, RejectsDamagedFilesNamingWhatIsWrong) {
     hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadWrite, "neural law");
     file.write_attribute("format", "romp-snapshot");
   }
-  EXPECT_NE(read_error(path).find("expected 'romp-neural-law'"), std::string::npos) << read_error(path);
+  EXPECT_NE(read_error(path).find("root attribute format is not \"romp-neural-law\""), std::string::npos)
+      << read_error(path);
 }
 
 }  // namespace
