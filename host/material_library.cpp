@@ -63,6 +63,7 @@ MaterialSpec to_material_spec(const scene::MaterialSpecification& m) {
       break;
     case MaterialModel::WeaklyCompressibleFluid: params = Params::weakly_compressible_fluid(lame.lambda); break;
   }
+  if (m.model != MaterialModel::WeaklyCompressibleFluid) params = params.with_min_stretch(float(m.min_stretch));
   return {params, float(m.density)};
 }
 

@@ -51,6 +51,7 @@ struct MaterialSpecification {
   double yield_stress = 0.0;       // von Mises (Pa)
   double friction_angle = 30.0;    // Drucker–Prager (degrees)
   double cohesion = 0.0;           // Drucker–Prager
+  double min_stretch = 0.1;        // inversion handling: stress sees principal stretches >= this (0: off); not fluids
 };
 
 struct ObjectSpec {

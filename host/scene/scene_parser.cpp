@@ -201,6 +201,8 @@ MaterialSpecification read_material(TableReader t, const std::string& name) {
     m.friction_angle = t.number("friction_angle", m.friction_angle, Range::closed_open(0.0, 90.0));
     m.cohesion = t.number("cohesion", m.cohesion, Range::non_negative());
   }
+  if (m.model != MaterialModel::WeaklyCompressibleFluid)
+    m.min_stretch = t.number("min_stretch", m.min_stretch, Range::closed_open(0.0, 1.0));
   t.finish();
   return m;
 }

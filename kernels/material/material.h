@@ -16,6 +16,7 @@
 #include "kernels/material/hencky.h"
 #include "kernels/material/lame.h"
 #include "kernels/material/neo_hookean.h"
+#include "kernels/material/stretch_clamp.h"
 #include "kernels/material/von_mises.h"
 #include "kernels/material/weakly_compressible_fluid.h"
 #include "kernels/math/mat3.h"
@@ -39,31 +40,39 @@ struct MaterialParams {
   T yield_stress;    // VonMises: τ_y (Pa)
   T friction_alpha;  // DruckerPrager: α = drucker_prager_alpha(friction angle)
   T cohesion;        // DruckerPrager: log-strain shift of the cone tip (drucker_prager.h)
+  T min_stretch;     // stress, energy and δP see principal stretches raised to this floor (stretch_clamp.h); 0: off
 
   static constexpr MaterialParams fixed_corotated(Lame<T> lame) {
-    return {MaterialModel::FixedCorotated, lame.mu, lame.lambda, T(0), T(0), T(0)};
+    return {MaterialModel::FixedCorotated, lame.mu, lame.lambda, T(0), T(0), T(0), T(0)};
   }
   static constexpr MaterialParams neo_hookean(Lame<T> lame) {
-    return {MaterialModel::NeoHookean, lame.mu, lame.lambda, T(0), T(0), T(0)};
+    return {MaterialModel::NeoHookean, lame.mu, lame.lambda, T(0), T(0), T(0), T(0)};
   }
   static constexpr MaterialParams hencky_stvk(Lame<T> lame) {
-    return {MaterialModel::HenckyStVK, lame.mu, lame.lambda, T(0), T(0), T(0)};
+    return {MaterialModel::HenckyStVK, lame.mu, lame.lambda, T(0), T(0), T(0), T(0)};
   }
   static constexpr MaterialParams von_mises(Lame<T> lame, T yield_stress) {
-    return {MaterialModel::VonMises, lame.mu, lame.lambda, yield_stress, T(0), T(0)};
+    return {MaterialModel::VonMises, lame.mu, lame.lambda, yield_stress, T(0), T(0), T(0)};
   }
   // The friction angle in degrees, 0 ≤ φ < 90; α is computed here, once, rather than per particle.
   static MaterialParams drucker_prager(Lame<T> lame, T friction_angle_degrees, T cohesion) {
     return {MaterialModel::DruckerPrager, lame.mu, lame.lambda, T(0), drucker_prager_alpha(friction_angle_degrees),
-            cohesion};
+            cohesion, T(0)};
+  }
+  // This record with inversion handling (stretch_clamp.h) at `floor`; not for the fluid, whose F
+  // carries only a volume.
+  constexpr MaterialParams with_min_stretch(T floor) const {
+    MaterialParams clamped = *this;
+    clamped.min_stretch = floor;
+    return clamped;
   }
   static constexpr MaterialParams weakly_compressible_fluid(T lambda) {
-    return {MaterialModel::WeaklyCompressibleFluid, T(0), lambda, T(0), T(0), T(0)};
+    return {MaterialModel::WeaklyCompressibleFluid, T(0), lambda, T(0), T(0), T(0), T(0)};
   }
 };
 
 static_assert(std::is_trivially_copyable_v<MaterialParams<float>>);
-static_assert(sizeof(MaterialParams<float>) <= 6 * sizeof(float), "one record per material id, kept small");
+static_assert(sizeof(MaterialParams<float>) <= 7 * sizeof(float), "one record per material id, kept small");
 
 // visitor(model) for the model struct that `params` describes.
 template <class T, class Visitor>
@@ -128,22 +137,25 @@ struct IsPlastic {
 
 }  // namespace material_detail
 
-// ψ(F) per unit reference volume.
+// ψ(F) per unit reference volume (at the clamped F when params.min_stretch > 0).
 template <class T>
 ROMP_HD T energy_density(const MaterialParams<T>& params, const Mat3<T>& F) {
-  return visit_model(params, material_detail::EnergyDensity<T>{F});
+  const Mat3<T> F_used = clamp_stretches(F, params.min_stretch);
+  return visit_model(params, material_detail::EnergyDensity<T>{F_used});
 }
 
-// P(F) = ∂ψ/∂F.
+// P(F) = ∂ψ/∂F (at the clamped F when params.min_stretch > 0).
 template <class T>
 ROMP_HD Mat3<T> first_piola(const MaterialParams<T>& params, const Mat3<T>& F) {
-  return visit_model(params, material_detail::FirstPiola<T>{F});
+  const Mat3<T> F_used = clamp_stretches(F, params.min_stretch);
+  return visit_model(params, material_detail::FirstPiola<T>{F_used});
 }
 
-// δP = ∂P/∂F : δF.
+// δP = ∂P/∂F : δF (at the clamped F when params.min_stretch > 0).
 template <class T>
 ROMP_HD Mat3<T> first_piola_differential(const MaterialParams<T>& params, const Mat3<T>& F, const Mat3<T>& dF) {
-  return visit_model(params, material_detail::FirstPiolaDifferential<T>{F, dF});
+  const Mat3<T> F_used = clamp_stretches(F, params.min_stretch);
+  return visit_model(params, material_detail::FirstPiolaDifferential<T>{F_used, dF});
 }
 
 // The elastic F after the model's return map; F_trial itself for the elastic models.
