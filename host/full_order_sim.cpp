@@ -16,11 +16,18 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
     : exec_(exec),
       config_(std::move(config)),
       particles_(exec.backend, init),
-      grid_(exec.backend, config_.dx, config_.transfer == mpm::Transfer::PicFlip),
+      // Domain corners always blend PIC and FLIP (the enriched-MPM paper's transfer), so their grid
+      // keeps the velocity before forces whatever the other particles use.
+      grid_(exec.backend, config_.dx, config_.transfer == mpm::Transfer::PicFlip || !init.domains.empty()),
       inputs_(exec, config_) {
   check_particle_tables(config_, init.material, init.dirichlet_group);
+  check_particle_domains(config_, init);
+  if (!init.domains.empty()) domains_.emplace(exec.backend, init.domains);
   // Pipeline order, as substep() runs them.
-  stage_seconds_ = {{"sort", 0.0}, {"grid_build", 0.0}, {"p2g", 0.0}, {"grid_update", 0.0}, {"g2p", 0.0}};
+  stage_seconds_ = {{"sort", 0.0}, {"grid_build", 0.0}, {"p2g", 0.0}};
+  if (domains_) stage_seconds_.insert(stage_seconds_.end(), {{"p2c", 0.0}, {"c2g", 0.0}});
+  stage_seconds_.insert(stage_seconds_.end(), {{"grid_update", 0.0}, {"g2p", 0.0}});
+  if (domains_) stage_seconds_.insert(stage_seconds_.end(), {{"g2c", 0.0}, {"c2p", 0.0}});
   if (inputs_.plastic()) stage_seconds_.emplace_back("plasticity", 0.0);
 }
 
@@ -38,7 +45,8 @@ void FullOrderSim::substep(float dt) {
   const float inverse_dx = 1.0f / config_.dx;
   timed([&] { particles_.sort_by_block(exec_, inverse_dx); });
   const mpm::ParticleView particles = particles_.view();
-  timed([&] { grid_.rebuild(exec_, Vec3Planes<const float>(particles.x)); });
+  const mpm::DomainView domains = domains_ ? domains_->view() : mpm::DomainView{};
+  timed([&] { grid_.rebuild(exec_, Vec3Planes<const float>(particles.x), Vec3Planes<const float>(domains.x)); });
   const mpm::GridView grid = grid_.view();
   timed([&] {
     if (config_.p2g == P2GKernel::Tiled)
@@ -46,8 +54,16 @@ void FullOrderSim::substep(float dt) {
     else
       mpm::particle_to_grid(exec_, particles, grid, step);
   });
+  if (domains_) {
+    timed([&] { mpm::particles_to_corners(exec_, particles, domains, step); });
+    timed([&] { mpm::corners_to_grid(exec_, domains, grid, step); });
+  }
   timed([&] { mpm::update_grid(exec_, grid, step); });
   timed([&] { mpm::grid_to_particle(exec_, particles, grid, step); });
+  if (domains_) {
+    timed([&] { mpm::grid_to_corners(exec_, domains, grid, step); });
+    timed([&] { mpm::corners_to_particles(exec_, particles, domains, step); });
+  }
   if (inputs_.plastic()) timed([&] { mpm::project_plasticity(exec_, particles, step); });
 
   time_ += dt;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -9,15 +10,16 @@
 #include "host/step_inputs.h"
 #include "kernels/core/error.h"
 #include "kernels/core/exec.h"
+#include "kernels/mpm/particle_domains.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/mpm/step.h"
 
 namespace romp {
 
-
 class FullOrderSim {
  public:
+  // `init.domains`, when not empty, gives the particles it names hexahedral domains (particle_domains.h).
   FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::ParticleInit& init);
 
   // The Δt the CFL condition allows now (or the fixed Δt).
@@ -35,16 +37,18 @@ class FullOrderSim {
   const FullOrderConfig& config() const { return config_; }
   mpm::ParticleSet& particles() { return particles_; }
   const mpm::SparseGrid& grid() const { return grid_; }
+  // The particle domains of the scene's objects that asked for them (objects.domains), if any.
+  const std::optional<mpm::ParticleDomains>& domains() const { return domains_; }
   bool has_plasticity() const { return inputs_.plastic(); }
 
   // Seconds spent in each stage so far, in pipeline order (only the stages this scene runs).
   std::vector<std::pair<std::string, double>> stage_seconds() const;
 
  private:
-
   Exec exec_;
   FullOrderConfig config_;
   mpm::ParticleSet particles_;
+  std::optional<mpm::ParticleDomains> domains_;
   mpm::SparseGrid grid_;
   StepInputs inputs_;
   double time_ = 0.0;

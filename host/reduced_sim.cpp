@@ -97,6 +97,8 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
       latent_(map_.latent),
       points_(reference.count()),
       random_(options.seed) {
+  ROMP_CHECK(reference.domains.empty(),
+             "objects with domains = true run full-order only: a reduced model has no particle domains");
   const Backend backend = exec.backend;
   const Index n = points_;
   ROMP_CHECK(n > 0, "a reduced simulation needs at least one material point");

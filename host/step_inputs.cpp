@@ -124,14 +124,27 @@ void advance_clock(double& time, double t, const std::function<double()>& stable
   }
 }
 
+void check_dirichlet_groups(const FullOrderConfig& config, const std::vector<std::int32_t>& groups,
+                            const std::string& what) {
+  for (const std::int32_t group : groups)
+    ROMP_CHECK(group == mpm::kNoDirichletGroup || (group >= 0 && group < std::int32_t(config.dirichlet.size())),
+               fmt::format("{} Dirichlet group {} outside [0, {})", what, group, config.dirichlet.size()));
+}
+
 void check_particle_tables(const FullOrderConfig& config, const std::vector<std::int32_t>& material,
                            const std::vector<std::int32_t>& dirichlet_group) {
   for (const std::int32_t id : material)
     ROMP_CHECK(id >= 0 && id < std::int32_t(config.materials.size()),
                fmt::format("particle material id {} outside [0, {})", id, config.materials.size()));
-  for (const std::int32_t group : dirichlet_group)
-    ROMP_CHECK(group == mpm::kNoDirichletGroup || (group >= 0 && group < std::int32_t(config.dirichlet.size())),
-               fmt::format("particle Dirichlet group {} outside [0, {})", group, config.dirichlet.size()));
+  check_dirichlet_groups(config, dirichlet_group, "particle");
+}
+
+void check_particle_domains(const FullOrderConfig& config, const mpm::ParticleInit& init) {
+  const Index domains = init.domains.count();
+  for (const std::int32_t d : init.domain)
+    ROMP_CHECK(d == mpm::kNoDomain || (d >= 0 && d < domains),
+               fmt::format("particle domain {} outside [0, {})", d, domains));
+  check_dirichlet_groups(config, init.domains.corner_dirichlet_group, "domain corner");
 }
 
 }  // namespace romp

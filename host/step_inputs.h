@@ -13,6 +13,7 @@
 #include "kernels/core/error.h"
 #include "kernels/core/exec.h"
 #include "host/sim_config.h"
+#include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/step.h"
 
 namespace romp {
@@ -72,6 +73,13 @@ class StepInputs {
 // merged into the one before.
 void advance_clock(double& time, double t, const std::function<double()>& stable_dt,
                    const std::function<void(float)>& substep);
+
+// Throws if a group of `groups` (of `what`: "particle", "domain corner") is not in `config`.
+void check_dirichlet_groups(const FullOrderConfig& config, const std::vector<std::int32_t>& groups,
+                            const std::string& what);
+
+// Throws if a particle names a domain `init.domains` lacks, or a corner a Dirichlet group not in `config`.
+void check_particle_domains(const FullOrderConfig& config, const mpm::ParticleInit& init);
 
 // Throws if a particle's material or Dirichlet group is not in `config`.
 void check_particle_tables(const FullOrderConfig& config, const std::vector<std::int32_t>& material,

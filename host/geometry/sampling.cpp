@@ -142,6 +142,7 @@ void append_body(mpm::ParticleInit& init, const SampledBody& body, double densit
   init.volume0.insert(init.volume0.end(), std::size_t(added), float(body.particle_volume));
   init.material.insert(init.material.end(), std::size_t(added), material);
   init.dirichlet_group.insert(init.dirichlet_group.end(), std::size_t(added), mpm::kNoDirichletGroup);
+  if (!init.domain.empty()) init.domain.insert(init.domain.end(), std::size_t(added), mpm::kNoDomain);
 }
 
 mpm::ParticleInit sample_box(const Vec3<float>& low, const Vec3<float>& high, const SamplingSpec& spec,

@@ -80,6 +80,10 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   double restored_time = 0.0;
   std::int64_t restored_steps = 0;
   if (options.resume && unfinished) {
+    // Checkpoints hold particle state only, not the corners of particle domains.
+    if (!setup.particles.domains.empty())
+      throw scene::SceneError(fmt::format("{}: objects with domains = true cannot be resumed yet; run it without --resume",
+                                          scene.source_file));
     const io::Checkpoint checkpoint = io::read_checkpoint(checkpoint_file);
     if (checkpoint.tag != scene.resolved_text)
       throw scene::SceneError(fmt::format("{}: the scene differs from the one that wrote {}; run it without --resume",

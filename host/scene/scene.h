@@ -61,6 +61,7 @@ struct ObjectSpec {
   SamplingSpec sampling;
   Vec3<double> velocity = Vec3<double>::zero();
   Vec3<double> angular_velocity = Vec3<double>::zero();  // rad/s about the sampled body's centre of mass
+  bool domains = false;  // hexahedral particle domains (lattice sampling only): no numerical fracture
 };
 
 struct ColliderSpecification {

@@ -247,6 +247,9 @@ void read_objects(SceneReader& r, TableReader& root) {
     object.sampling = read_sampling(t.optional_table("sampling"));
     object.velocity = t.vec3("velocity", Vec3<double>::zero());
     object.angular_velocity = t.vec3("angular_velocity", Vec3<double>::zero());
+    object.domains = t.boolean("domains", false);
+    if (object.domains && object.sampling.method != SamplingMethod::Lattice)
+      t.fail("domains", "particle domains are the cells of the sampling lattice: use sampling.method = \"lattice\"");
     t.finish();
     r.scene.objects.push_back(std::move(object));
   }

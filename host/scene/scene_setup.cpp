@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include "host/geometry/lattice_domains.h"
 #include "host/geometry/mesh_io.h"
 #include "host/geometry/sampling.h"
 #include "host/geometry/triangle_mesh.h"
@@ -119,6 +120,8 @@ SceneSetup build_scene(const Scene& scene) {
     const Index first = setup.particles.count();
     const MaterialSpecification& material = scene.materials[std::size_t(object.material)];
     geometry::append_body(setup.particles, body, material.density, object.material);
+    if (object.domains)
+      geometry::append_lattice_domains(setup.particles, first, body, sampling_for(object.sampling, scene.dx).spacing());
     setup.particles_per_object.push_back(setup.particles.count() - first);
 
     // Rigid initial velocity about the body's centre of mass (all its particles have one mass).
@@ -138,6 +141,7 @@ SceneSetup build_scene(const Scene& scene) {
         }
     }
   }
+  if (!setup.particles.domains.empty()) geometry::assign_corner_dirichlet_groups(setup.particles);
   return setup;
 }
 

@@ -8,29 +8,20 @@
 namespace romp::mpm {
 namespace {
 
-// [w]× : the matrix of the cross product with w, the velocity gradient of a rigid rotation.
-ROMP_HD_INLINE Mat3<float> cross_matrix(const Vec3<float>& w) {
-  return Mat3<float>(0.0f, -w[2], w[1], w[2], 0.0f, -w[0], -w[1], w[0], 0.0f);
-}
-
 struct GridToParticle {
   ParticleView particles;
   GridView grid;
   StepParams step;
 
   ROMP_HD void operator()(Index p) const {
+    if (particles.has_domain(p)) return;  // corners_to_particles moves it
     Vec3<float> x = particles.x.load(p);
     Mat3<float> F = particles.F.load(p);
     Vec3<float> v;
     Mat3<float> C;
     const std::int32_t group = particles.dirichlet_group[p];
     if (group != kNoDirichletGroup) {
-      const RigidMotion& motion = step.dirichlet[group];
-      const Vec3<float> arm = x - motion.pivot;
-      v = motion.linear_velocity + cross(motion.angular_velocity, arm);
-      C = cross_matrix(motion.angular_velocity);
-      x = motion.pivot + step.dt * motion.linear_velocity + motion.step_rotation * arm;
-      F = motion.step_rotation * F;
+      step.dirichlet[group].carry(step.dt, x, v, C, F);
     } else {
       const QuadraticStencil<float> stencil(x, grid.inverse_dx);
       const StencilNodes nodes(stencil, grid.table);

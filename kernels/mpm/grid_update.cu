@@ -17,7 +17,7 @@ struct UpdateGrid {
     if (mass <= 0.0f) return;  // velocity stays 0: no particle reads a massless node with weight > 0
     const float inverse_mass = 1.0f / mass;
     Vec3<float> v = grid.velocity.load(n) * inverse_mass;
-    if (step.transfer == Transfer::PicFlip) grid.velocity_old.store(n, grid.velocity_old.load(n) * inverse_mass);
+    if (grid.keeps_old_velocity()) grid.velocity_old.store(n, grid.velocity_old.load(n) * inverse_mass);
     v += step.dt * step.gravity;
 
     const std::uint64_t key = grid.table.block_keys[n / kNodesPerBlock];

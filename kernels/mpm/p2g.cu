@@ -11,8 +11,9 @@ struct ParticleToGrid {
   GridView grid;
   StepParams step;
   ROMP_HD void operator()(Index p) const {
+    if (particles.has_domain(p)) return;  // its domain's corners carry it to the grid
     const P2GParticle particle(particles, grid, step, p);
-    const bool flip = step.transfer == Transfer::PicFlip;
+    const bool flip = grid.keeps_old_velocity();
     const StencilNodes nodes(particle.stencil, grid.table);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)

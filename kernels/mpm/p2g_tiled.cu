@@ -43,8 +43,9 @@ ROMP_HD_INLINE void tile_origin(const QuadraticStencil<float>& stencil, int orig
 template <bool kShared>
 ROMP_HD void scatter_to_tile(const ParticleView& particles, const GridView& grid, const StepParams& step, Index p,
                              const int origin[3], float* tile) {
+  if (particles.has_domain(p)) return;  // its domain's corners carry it to the grid
   const P2GParticle particle(particles, grid, step, p);
-  const bool flip = step.transfer == Transfer::PicFlip;
+  const bool flip = grid.keeps_old_velocity();
   const int di = particle.stencil.base[0] - origin[0], dj = particle.stencil.base[1] - origin[1],
             dk = particle.stencil.base[2] - origin[2];
   for (int i = 0; i < 3; ++i)
@@ -90,7 +91,7 @@ struct TiledBlockToGrid {
     int origin[3];
     tile_origin(QuadraticStencil<float>(particles.x.load(begin), grid.inverse_dx), origin);
     for (Index p = begin; p < end; ++p) scatter_to_tile<false>(particles, grid, step, p, origin, tile);
-    const bool flip = step.transfer == Transfer::PicFlip;
+    const bool flip = grid.keeps_old_velocity();
     for (int node = 0; node < kTileNodes; ++node) flush_tile_node(grid, flip, origin, tile, node);
   }
 };
@@ -110,7 +111,7 @@ __global__ void tiled_block_to_grid(ParticleView particles, GridView grid, StepP
   for (Index p = begin + threadIdx.x; p < end; p += blockDim.x)
     scatter_to_tile<true>(particles, grid, step, p, origin, tile);
   __syncthreads();
-  const bool flip = step.transfer == Transfer::PicFlip;
+  const bool flip = grid.keeps_old_velocity();
   for (int node = threadIdx.x; node < kTileNodes; node += blockDim.x) flush_tile_node(grid, flip, origin, tile, node);
 }
 #endif

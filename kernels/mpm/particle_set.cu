@@ -159,6 +159,9 @@ ParticleSet::ParticleSet(Backend backend, const ParticleInit& init) : backend_(b
   volume0_ = DeviceBuffer<float>::from_host(backend, init.volume0);
   material_ = DeviceBuffer<std::int32_t>::from_host(backend, init.material);
   dirichlet_group_ = DeviceBuffer<std::int32_t>::from_host(backend, init.dirichlet_group);
+  ROMP_CHECK(init.domain.empty() || Index(init.domain.size()) == n,
+             "the per-particle domain index needs " + std::to_string(n) + " entries (or none)");
+  domain_ = DeviceBuffer<std::int32_t>::from_host(backend, init.domain);
   id_ = DeviceBuffer<std::int32_t>(backend, n);
   const Exec exec = backend == Backend::Cuda ? Exec::cuda() : Exec::cpu();
   if (init.F.empty()) for_each(exec, n, SetIdentity{Mat3Planes<float>(F_.data(), n)});
@@ -177,12 +180,13 @@ ParticleView ParticleSet::view() {
                       volume0_.span(),
                       material_.span(),
                       dirichlet_group_.span(),
-                      id_.span()};
+                      id_.span(),
+                      domain_.span()};
 }
 
 std::size_t ParticleSet::bytes() const {
   return x_.bytes() + v_.bytes() + C_.bytes() + F_.bytes() + mass_.bytes() + volume0_.bytes() + material_.bytes() +
-         dirichlet_group_.bytes() + id_.bytes();
+         dirichlet_group_.bytes() + id_.bytes() + domain_.bytes();
 }
 
 void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
@@ -203,6 +207,7 @@ void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
   permute(exec, material_, 1, order);
   permute(exec, dirichlet_group_, 1, order);
   permute(exec, id_, 1, order);
+  if (domain_.size() > 0) permute(exec, domain_, 1, order);
 }
 
 std::vector<float> ParticleSet::planes_in_initial_order(const Exec& exec, const DeviceBuffer<float>& planes,

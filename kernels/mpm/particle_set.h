@@ -7,6 +7,7 @@
 #include "kernels/core/device_buffer.h"
 #include "kernels/core/exec.h"
 #include "kernels/math/mat3_planes.h"
+#include "kernels/mpm/domain_init.h"
 
 namespace romp::mpm {
 
@@ -24,6 +25,11 @@ struct ParticleView {
   Span<std::int32_t> material; // index into the step's material table
   Span<std::int32_t> dirichlet_group;  // index into the step's prescribed motions, or kNoDirichletGroup
   Span<std::int32_t> id;       // index of the particle in the initial state (sorting permutes the arrays)
+  Span<std::int32_t> domain;   // the particle's hexahedral domain, or kNoDomain; empty when no particle has one
+
+  // Particles with a domain exchange with the grid through its corners (particle_domains.h), not
+  // through their own stencil.
+  ROMP_HD bool has_domain(Index p) const { return !domain.empty() && domain[p] != kNoDomain; }
 };
 
 // Host-side description of the initial particles (planes as in ParticleView). F and C may be left
@@ -33,6 +39,8 @@ struct ParticleInit {
   std::vector<float> F, C;          // 9 planes each, or empty
   std::vector<float> mass, volume0;
   std::vector<std::int32_t> material, dirichlet_group;
+  std::vector<std::int32_t> domain;  // per particle: index into `domains`, or kNoDomain; empty when none has one
+  DomainInit domains;
   Index count() const { return Index(mass.size()); }
 };
 
@@ -68,7 +76,7 @@ class ParticleSet {
   Backend backend_;
   Index count_;
   DeviceBuffer<float> x_, v_, C_, F_, mass_, volume0_;
-  DeviceBuffer<std::int32_t> material_, dirichlet_group_, id_;
+  DeviceBuffer<std::int32_t> material_, dirichlet_group_, id_, domain_;
   DeviceBuffer<std::int32_t> block_starts_;
   Index block_count_ = 0;
 };

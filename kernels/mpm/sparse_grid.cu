@@ -74,7 +74,7 @@ GridView SparseGrid::view() {
   return grid;
 }
 
-void SparseGrid::rebuild(const Exec& exec, Vec3Planes<const float> positions) {
+void SparseGrid::rebuild(const Exec& exec, Vec3Planes<const float> positions, Vec3Planes<const float> more_positions) {
   // Give memory back once the particles occupy far fewer blocks than provisioned (after a splash
   // settles, say): memory follows the occupied blocks in both directions.
   if (blocks_ > 0 && blocks_ * kShrinkFactor < max_blocks_ && max_blocks_ > kInitialBlocks)
@@ -83,7 +83,8 @@ void SparseGrid::rebuild(const Exec& exec, Vec3Planes<const float> positions) {
     keys_.fill_zero(exec.stream);
     counters_.fill_zero(exec.stream);
     const GridView grid = view();
-    for_each(exec, positions.count(), ActivateStencilBlocks{positions, grid.table, grid.inverse_dx});
+    for (const Vec3Planes<const float>& points : {positions, more_positions})
+      for_each(exec, points.count(), ActivateStencilBlocks{points, grid.table, grid.inverse_dx});
     const std::vector<std::int32_t> counters = counters_.to_host(exec.stream);
     if (counters[1] == 0 && counters[0] <= max_blocks_) {
       blocks_ = counters[0];

@@ -94,6 +94,9 @@ struct GridView {
   Index blocks = 0;                // active blocks this step
   float dx = 0.0f;
   float inverse_dx = 0.0f;
+
+  // Whether transfers also record the velocity before forces (for FLIP, of particles or of domain corners).
+  ROMP_HD bool keeps_old_velocity() const { return velocity_old.data() != nullptr; }
 };
 
 // Owner of the table and the node arrays; rebuilt from the particle positions every substep.
@@ -101,9 +104,10 @@ class SparseGrid {
  public:
   SparseGrid(Backend backend, float dx, bool keep_old_velocity);
 
-  // Activates every block that a particle's quadratic stencil touches and zeroes its nodes. Grows
-  // the table (and retries) when the particles touch more blocks than it holds.
-  void rebuild(const Exec& exec, Vec3Planes<const float> positions);
+  // Activates every block that the quadratic stencil of a point of `positions` or `more_positions`
+  // (particles, and the corners of particle domains) touches and zeroes its nodes. Grows the table
+  // (and retries) when the points touch more blocks than it holds.
+  void rebuild(const Exec& exec, Vec3Planes<const float> positions, Vec3Planes<const float> more_positions = {});
 
   GridView view();
   Index active_blocks() const { return blocks_; }

@@ -29,6 +29,21 @@ struct RigidMotion {
   Vec3<float> linear_velocity;
   Vec3<float> angular_velocity;
   Mat3<float> step_rotation;     // exp(dt [angular]×), so rotating particles stay on their circles
+
+  ROMP_HD Vec3<float> velocity_at(const Vec3<float>& x) const { return linear_velocity + cross(angular_velocity, x - pivot); }
+  // Where the material point at x (at the start of the substep) is at its end.
+  ROMP_HD Vec3<float> moved(const Vec3<float>& x, float dt) const {
+    return pivot + dt * linear_velocity + step_rotation * (x - pivot);
+  }
+  // A particle of the group over the substep: x and F carried along, v the rigid field at the old x,
+  // C = [ω]× its velocity gradient.
+  ROMP_HD void carry(float dt, Vec3<float>& x, Vec3<float>& v, Mat3<float>& C, Mat3<float>& F) const {
+    const Vec3<float>& w = angular_velocity;
+    v = velocity_at(x);
+    C = Mat3<float>(0.0f, -w[2], w[1], w[2], 0.0f, -w[0], -w[1], w[0], 0.0f);
+    x = moved(x, dt);
+    F = step_rotation * F;
+  }
 };
 
 enum class RegionShape : std::int32_t { Box = 0, Sphere = 1 };

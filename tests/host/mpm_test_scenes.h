@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "host/geometry/lattice_domains.h"
 #include "host/geometry/sampling.h"
 #include "host/full_order_sim.h"
 #include "kernels/math/vec3.h"
@@ -13,6 +14,18 @@ namespace romp::test {
 // Particles of the global lattice of spacing dx / per_cell inside the box [low, high], at density rho.
 inline mpm::ParticleInit lattice_box(const Vec3<float>& low, const Vec3<float>& high, float dx, int per_cell, float rho) {
   return geometry::sample_box(low, high, geometry::SamplingSpec{geometry::SamplingMethod::Lattice, per_cell, dx}, rho);
+}
+
+// lattice_box, every particle with its lattice cell as a hexahedral domain (corners shared).
+inline mpm::ParticleInit lattice_box_with_domains(const Vec3<float>& low, const Vec3<float>& high, float dx,
+                                                  int per_cell, float rho) {
+  const geometry::SamplingSpec spec{geometry::SamplingMethod::Lattice, per_cell, dx};
+  const Vec3<double> lo(low[0], low[1], low[2]), hi(high[0], high[1], high[2]);
+  const geometry::SampledBody body = geometry::sample(geometry::Box{(lo + hi) * 0.5, (hi - lo) * 0.5}, spec);
+  mpm::ParticleInit init;
+  geometry::append_body(init, body, rho, 0);
+  geometry::append_lattice_domains(init, 0, body, spec.spacing());
+  return init;
 }
 
 inline Vec3<float> plane_vector(const std::vector<float>& planes, Index count, Index p) {

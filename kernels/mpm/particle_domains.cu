@@ -1,0 +1,236 @@
+// ParticleDomains: upload and checks, and the particle → corner → grid → corner → particle stages.
+#include "kernels/mpm/particle_domains.h"
+
+#include <string>
+
+#include "kernels/core/atomic.h"
+#include "kernels/core/error.h"
+#include "kernels/core/for_each.h"
+#include "kernels/core/memory.h"
+#include "kernels/material/material.h"
+#include "kernels/material/volume.h"
+#include "kernels/math/finite.h"
+#include "kernels/mpm/bspline.h"
+#include "kernels/mpm/stencil_nodes.h"
+
+namespace romp::mpm {
+namespace {
+
+ROMP_HD_INLINE void atomic_add(const Vec3Planes<float>& planes, Index i, const Vec3<float>& value) {
+  for (int a = 0; a < 3; ++a) romp::atomic_add(&planes.data()[a * planes.count() + i], value[a]);
+}
+
+struct ParticlesToCorners {
+  ParticleView particles;
+  DomainView domains;
+  StepParams step;
+
+  ROMP_HD void operator()(Index p) const {
+    if (!particles.has_domain(p)) return;
+    const Index d = particles.domain[p];
+    const Mat3<float> P = material::first_piola(step.materials[particles.material[p]], particles.F.load(p));
+    if (!is_finite(P)) atomic_min(&step.first_failure[int(Stage::P2G)], std::int64_t(p));
+    const float mass = particles.mass[p];
+    const Vec3<float> x = particles.x.load(p);
+    const Vec3<float> momentum = mass * particles.v.load(p);
+    Vec3<float> load_force = Vec3<float>::zero();
+    for (Index l = 0; l < step.loads.size(); ++l)
+      if (step.loads[l].contains(x)) load_force += mass * step.loads[l].acceleration;
+    const Mat3<float> volume_stress = particles.volume0[p] * P;
+    for (int a = 0; a < kDomainCorners; ++a) {
+      const Index entry = kDomainCorners * d + a;
+      const Index c = domains.corner[entry];
+      const float w = domains.weight[entry];
+      romp::atomic_add(&domains.mass[c], w * mass);
+      atomic_add(domains.momentum, c, w * momentum);
+      atomic_add(domains.force, c, w * load_force - volume_stress * domains.gradient.load(entry));
+    }
+  }
+};
+
+struct CornersToGrid {
+  DomainView domains;
+  GridView grid;
+  float dt;
+
+  ROMP_HD void operator()(Index c) const {
+    const float mass = domains.mass[c];
+    const Vec3<float> momentum = domains.momentum.load(c);
+    const Vec3<float> impulse = momentum + dt * domains.force.load(c);
+    const QuadraticStencil<float> stencil(domains.x.load(c), grid.inverse_dx);
+    const StencilNodes nodes(stencil, grid.table);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k) {
+          const float w = stencil.weight(i, j, k);
+          const Index n = nodes.node(i, j, k);
+          romp::atomic_add(&grid.mass[n], w * mass);
+          atomic_add(grid.velocity, n, w * impulse);
+          atomic_add(grid.velocity_old, n, w * momentum);
+        }
+  }
+};
+
+struct GridToCorners {
+  DomainView domains;
+  GridView grid;
+  StepParams step;
+
+  ROMP_HD void operator()(Index c) const {
+    Vec3<float> x = domains.x.load(c);
+    Vec3<float> v = Vec3<float>::zero(), v_old = Vec3<float>::zero();
+    const std::int32_t group = domains.dirichlet_group[c];
+    if (group != kNoDirichletGroup) {
+      const RigidMotion& motion = step.dirichlet[group];
+      v = v_old = motion.velocity_at(x);
+      x = motion.moved(x, step.dt);
+    } else {
+      const QuadraticStencil<float> stencil(x, grid.inverse_dx);
+      const StencilNodes nodes(stencil, grid.table);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          for (int k = 0; k < 3; ++k) {
+            const float w = stencil.weight(i, j, k);
+            const Index n = nodes.node(i, j, k);
+            v += w * grid.velocity.load(n);
+            v_old += w * grid.velocity_old.load(n);
+          }
+      x += step.dt * v;
+    }
+    // Keep the corner's stencil inside the domain, as grid_to_particle does for particles.
+    for (int a = 0; a < 3; ++a) {
+      const float low = kDomainMarginCells * grid.dx, high = (float(step.domain_cells[a]) - kDomainMarginCells) * grid.dx;
+      x[a] = math::min(math::max(x[a], low), high);
+    }
+    domains.x.store(c, x);
+    domains.v.store(c, v);
+    domains.v_old.store(c, v_old);
+  }
+};
+
+struct CornersToParticles {
+  ParticleView particles;
+  DomainView domains;
+  StepParams step;
+
+  ROMP_HD void operator()(Index p) const {
+    if (!particles.has_domain(p)) return;
+    const Index d = particles.domain[p];
+    Vec3<float> x = particles.x.load(p);
+    Vec3<float> v;
+    Mat3<float> C;
+    Mat3<float> F = particles.F.load(p);
+    const std::int32_t group = particles.dirichlet_group[p];
+    if (group != kNoDirichletGroup) {
+      step.dirichlet[group].carry(step.dt, x, v, C, F);
+    } else {
+      Vec3<float> v_pic = Vec3<float>::zero(), dv_flip = Vec3<float>::zero();
+      Mat3<float> velocity_gradient = Mat3<float>::zero();  // ∇_X v, in the reference configuration
+      x = Vec3<float>::zero();
+      for (int a = 0; a < kDomainCorners; ++a) {
+        const Index entry = kDomainCorners * d + a;
+        const Index c = domains.corner[entry];
+        const float w = domains.weight[entry];
+        const Vec3<float> v_corner = domains.v.load(c);
+        v_pic += w * v_corner;
+        dv_flip += w * (v_corner - domains.v_old.load(c));
+        velocity_gradient += Mat3<float>::outer(v_corner, domains.gradient.load(entry));
+        x += w * domains.x.load(c);
+      }
+      v = step.flip_alpha * (particles.v.load(p) + dv_flip) + (1.0f - step.flip_alpha) * v_pic;
+      // C is the spatial velocity gradient ∇_X v F⁻¹ (what outputs report); a flat domain has none.
+      const float J = determinant(F);
+      C = math::abs(J) > 1e-12f ? (1.0f / J) * times_transpose(velocity_gradient, material::cofactor(F))
+                                : Mat3<float>::zero();
+      F += step.dt * velocity_gradient;
+    }
+    if (!(is_finite(x) && is_finite(v) && is_finite(F) && is_finite(C)))
+      atomic_min(&step.first_failure[int(Stage::G2P)], std::int64_t(p));
+    particles.x.store(p, x);
+    particles.v.store(p, v);
+    particles.C.store(p, C);
+    particles.F.store(p, F);
+  }
+};
+
+}  // namespace
+
+ParticleDomains::ParticleDomains(Backend backend, const DomainInit& init)
+    : count_(init.count()), corner_count_(init.corner_count()) {
+  const Index entries = kDomainCorners * count_;
+  using std::to_string;
+  ROMP_CHECK(Index(init.corner.size()) == entries && Index(init.weight.size()) == entries &&
+                 Index(init.gradient.size()) == 3 * entries,
+             "particle domains: " + to_string(count_) + " domains need " + to_string(entries) +
+                 " corner indices and weights and " + to_string(3 * entries) + " gradient entries");
+  ROMP_CHECK(Index(init.corner_x.size()) == 3 * corner_count_,
+             "particle domains: " + to_string(corner_count_) + " corners need " + to_string(3 * corner_count_) +
+                 " position entries, got " + to_string(init.corner_x.size()));
+  for (Index e = 0; e < entries; ++e) {
+    const std::int32_t c = init.corner[std::size_t(e)];
+    ROMP_CHECK(c >= 0 && c < corner_count_, "particle domains: domain " + to_string(e / kDomainCorners) +
+                                                " names corner " + to_string(c) + ", outside [0, " +
+                                                to_string(corner_count_) + ")");
+  }
+  corner_ = DeviceBuffer<std::int32_t>::from_host(backend, init.corner);
+  dirichlet_group_ = DeviceBuffer<std::int32_t>::from_host(backend, init.corner_dirichlet_group);
+  weight_ = DeviceBuffer<float>::from_host(backend, init.weight);
+  std::vector<float> gradient_planes(std::size_t(3 * entries));
+  for (Index e = 0; e < entries; ++e)
+    for (int a = 0; a < 3; ++a) gradient_planes[std::size_t(a * entries + e)] = init.gradient[std::size_t(3 * e + a)];
+  gradient_ = DeviceBuffer<float>::from_host(backend, gradient_planes);
+  x_ = DeviceBuffer<float>::from_host(backend, init.corner_x);
+  for (DeviceBuffer<float>* planes : {&v_, &v_old_, &momentum_, &force_}) {
+    *planes = DeviceBuffer<float>(backend, 3 * corner_count_);
+    planes->fill_zero();
+  }
+  mass_ = DeviceBuffer<float>(backend, corner_count_);
+  mass_.fill_zero();
+}
+
+DomainView ParticleDomains::view() {
+  const Index n = corner_count_;
+  return DomainView{corner_.span(),
+                    weight_.span(),
+                    Vec3Planes<const float>(gradient_.data(), kDomainCorners * count_),
+                    n,
+                    Vec3Planes<float>(x_.data(), n),
+                    Vec3Planes<float>(v_.data(), n),
+                    Vec3Planes<float>(v_old_.data(), n),
+                    mass_.span(),
+                    Vec3Planes<float>(momentum_.data(), n),
+                    Vec3Planes<float>(force_.data(), n),
+                    dirichlet_group_.span()};
+}
+
+std::size_t ParticleDomains::bytes() const {
+  return corner_.bytes() + dirichlet_group_.bytes() + weight_.bytes() + gradient_.bytes() + x_.bytes() + v_.bytes() +
+         v_old_.bytes() + mass_.bytes() + momentum_.bytes() + force_.bytes();
+}
+
+void particles_to_corners(const Exec& exec, const ParticleView& particles, const DomainView& domains,
+                          const StepParams& step) {
+  const std::size_t bytes = std::size_t(domains.corners) * sizeof(float);
+  memory::fill_zero(domains.mass.data(), exec.backend, bytes, exec.stream);
+  for (int a = 0; a < 3; ++a) {
+    memory::fill_zero(domains.momentum.data() + a * domains.corners, exec.backend, bytes, exec.stream);
+    memory::fill_zero(domains.force.data() + a * domains.corners, exec.backend, bytes, exec.stream);
+  }
+  for_each(exec, particles.count, ParticlesToCorners{particles, domains, step});
+}
+
+void corners_to_grid(const Exec& exec, const DomainView& domains, const GridView& grid, const StepParams& step) {
+  ROMP_CHECK(grid.keeps_old_velocity(), "corners_to_grid needs a grid that keeps the velocity before forces (FLIP)");
+  for_each(exec, domains.corners, CornersToGrid{domains, grid, step.dt});
+}
+
+void grid_to_corners(const Exec& exec, const DomainView& domains, const GridView& grid, const StepParams& step) {
+  for_each(exec, domains.corners, GridToCorners{domains, grid, step});
+}
+
+void corners_to_particles(const Exec& exec, const ParticleView& particles, const DomainView& domains,
+                          const StepParams& step) {
+  for_each(exec, particles.count, CornersToParticles{particles, domains, step});
+}
+
+}  // namespace romp::mpm
