@@ -25,6 +25,7 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
   if (!init.domains.empty()) domains_.emplace(exec.backend, init.domains);
   // Pipeline order, as substep() runs them.
   stage_seconds_ = {{"sort", 0.0}, {"grid_build", 0.0}, {"p2g", 0.0}};
+  if (enriching()) stage_seconds_.emplace_back("enrich", 0.0);
   if (domains_) stage_seconds_.insert(stage_seconds_.end(), {{"p2c", 0.0}, {"c2g", 0.0}});
   stage_seconds_.insert(stage_seconds_.end(), {{"grid_update", 0.0}, {"g2p", 0.0}});
   if (domains_) stage_seconds_.insert(stage_seconds_.end(), {{"g2c", 0.0}, {"c2p", 0.0}});
@@ -34,7 +35,9 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
 float FullOrderSim::stable_dt() {
   if (config_.fixed_dt > 0.0f) return config_.fixed_dt;
   const float speed = inputs_.max_wave_speed() + mpm::max_particle_speed(exec_, particles_.view());
-  return std::min(config_.max_dt, config_.cfl * config_.dx / speed);
+  // Enriched corners are nodes of elements as small as a domain, not a grid cell.
+  const float length = enriching() ? std::min(config_.dx, domains_->smallest_edge()) : config_.dx;
+  return std::min(config_.max_dt, config_.cfl * length / speed);
 }
 
 void FullOrderSim::substep(float dt) {
@@ -54,6 +57,7 @@ void FullOrderSim::substep(float dt) {
     else
       mpm::particle_to_grid(exec_, particles, grid, step);
   });
+  if (enriching()) timed([&] { mpm::mark_enrichment(exec_, particles, domains, step, config_.enrichment_threshold); });
   if (domains_) {
     timed([&] { mpm::particles_to_corners(exec_, particles, domains, step); });
     timed([&] { mpm::corners_to_grid(exec_, domains, grid, step); });
@@ -68,6 +72,16 @@ void FullOrderSim::substep(float dt) {
 
   time_ += dt;
   ++steps_;
+  if (enriching()) {
+    // One host read per substep, only in scenes that enrich.
+    last_enriched_share_ = domains_->enriched_share(exec_);
+    ++enrichment_.substeps;
+    enrichment_.share_sum += last_enriched_share_;
+    if (last_enriched_share_ > enrichment_.largest_share) {
+      enrichment_.largest_share = last_enriched_share_;
+      enrichment_.largest_share_step = steps_;
+    }
+  }
   inputs_.check_stages("", steps_, time_, [this](mpm::Stage, std::int64_t slot) {
     // Report the particle by its initial index, which is what outputs and scenes refer to.
     std::int32_t id = 0;

@@ -17,6 +17,15 @@
 
 namespace romp {
 
+// How much dynamic enrichment a run used: the share of domain particles that enriched their corners,
+// summed over substeps, and its largest value.
+struct EnrichmentStatistics {
+  std::int64_t substeps = 0;
+  double share_sum = 0.0;
+  double largest_share = 0.0;
+  std::int64_t largest_share_step = 0;
+};
+
 class FullOrderSim {
  public:
   // `init.domains`, when not empty, gives the particles it names hexahedral domains (particle_domains.h).
@@ -39,12 +48,17 @@ class FullOrderSim {
   const mpm::SparseGrid& grid() const { return grid_; }
   // The particle domains of the scene's objects that asked for them (objects.domains), if any.
   const std::optional<mpm::ParticleDomains>& domains() const { return domains_; }
+  // The share of domain particles whose corners were enriched in the last substep (0 without enrichment).
+  double enriched_share() const { return last_enriched_share_; }
+  const EnrichmentStatistics& enrichment_statistics() const { return enrichment_; }
   bool has_plasticity() const { return inputs_.plastic(); }
 
   // Seconds spent in each stage so far, in pipeline order (only the stages this scene runs).
   std::vector<std::pair<std::string, double>> stage_seconds() const;
 
  private:
+  bool enriching() const { return domains_ && config_.enrichment_threshold > 0.0f; }
+
   Exec exec_;
   FullOrderConfig config_;
   mpm::ParticleSet particles_;
@@ -54,6 +68,8 @@ class FullOrderSim {
   double time_ = 0.0;
   std::int64_t steps_ = 0;
   std::vector<std::pair<std::string, double>> stage_seconds_;
+  double last_enriched_share_ = 0.0;
+  EnrichmentStatistics enrichment_;
 };
 
 }  // namespace romp

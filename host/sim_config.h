@@ -51,6 +51,9 @@ struct FullOrderConfig {
   float fixed_dt = 0.0f;   // > 0: use this Δt instead of the CFL condition
   float max_dt = 1e-3f;    // upper bound on the CFL step (a body at rest has |v| = 0)
   P2GKernel p2g = P2GKernel::Tiled;
+  // Particle domains: corners of particles whose deformation quality (particle_domains.h) is at most
+  // this become degrees of freedom of their own (dynamic enrichment); 0 turns enrichment off.
+  float enrichment_threshold = 0.6f;
   std::vector<MaterialSpec> materials;
   std::vector<ColliderSpec> colliders;
   std::vector<DirichletSpec> dirichlet;

@@ -28,7 +28,15 @@ class FullOrderRun final : public Simulation {
   double time() const override { return sim_.time(); }
   std::int64_t steps() const override { return sim_.steps(); }
   std::vector<std::pair<std::string, double>> stage_seconds() const override { return sim_.stage_seconds(); }
-  bool resumable() const override { return true; }
+  // Checkpoints hold particles, not the corners of particle domains.
+  bool resumable() const override { return !sim_.domains(); }
+  std::vector<std::string> diagnostics() const override {
+    const EnrichmentStatistics& enrichment = sim_.enrichment_statistics();
+    if (enrichment.substeps == 0) return {};
+    return {fmt::format("enrichment: {:.1f}% of domain particles per substep on average, {:.1f}% at most (step {})",
+                        100.0 * enrichment.share_sum / double(enrichment.substeps), 100.0 * enrichment.largest_share,
+                        enrichment.largest_share_step)};
+  }
 
  private:
   FullOrderSim sim_;

@@ -112,6 +112,7 @@ struct Scene {
   // Solver and walls.
   std::string transfer = "apic";
   double flip_alpha = 0.95;
+  double enrichment = 0.6;  // particle domains: deformation quality at or below which corners are enriched
   std::int32_t wall_cells = 3;
   mpm::ContactType wall_contact = mpm::ContactType::Separate;
   double wall_friction = 0.0;

@@ -160,6 +160,7 @@ mpm::ContactType read_contact(TableReader& t, const std::string& fallback) {
 void read_solver(SceneReader& r, TableReader t) {
   r.scene.transfer = t.choice("transfer", "apic", {"apic", "pic-flip"});
   if (r.scene.transfer == "pic-flip") r.scene.flip_alpha = t.number("flip_alpha", 0.95, Range::closed(0.0, 1.0));
+  r.scene.enrichment = t.number("enrichment", 0.6, Range::closed_open(0.0, 1.0));
   t.finish();
 }
 

@@ -1,6 +1,8 @@
 // ParticleDomains: upload and checks, and the particle → corner → grid → corner → particle stages.
 #include "kernels/mpm/particle_domains.h"
 
+#include <algorithm>
+#include <limits>
 #include <string>
 
 #include "kernels/core/atomic.h"
@@ -10,6 +12,8 @@
 #include "kernels/material/material.h"
 #include "kernels/material/volume.h"
 #include "kernels/math/finite.h"
+#include "kernels/svd/svd3.h"
+#include "kernels/mpm/boundaries.h"
 #include "kernels/mpm/bspline.h"
 #include "kernels/mpm/stencil_nodes.h"
 
@@ -19,6 +23,26 @@ namespace {
 ROMP_HD_INLINE void atomic_add(const Vec3Planes<float>& planes, Index i, const Vec3<float>& value) {
   for (int a = 0; a < 3; ++a) romp::atomic_add(&planes.data()[a * planes.count() + i], value[a]);
 }
+
+struct MarkEnrichment {
+  ParticleView particles;
+  DomainView domains;
+  StepParams step;
+  float threshold;
+
+  ROMP_HD void operator()(Index p) const {
+    if (!particles.has_domain(p)) return;
+    const float floor = step.materials[particles.material[p]].min_stretch;
+    const Vec3<float> sigma = svd3(particles.F.load(p)).sigma;
+    // svd3 sorts the signed stretches: sigma[2] is the smallest.
+    const bool degenerate = sigma[2] < floor;
+    if (!degenerate && deformation_quality(sigma, math::max(floor, 1e-6f)) > threshold) return;
+    const Index d = particles.domain[p];
+    for (int a = 0; a < kDomainCorners; ++a)
+      atomic_max(&domains.enriched[domains.corner[kDomainCorners * d + a]], std::int32_t(1));
+    romp::atomic_add(&domains.enriched_particles[0], std::int32_t(1));
+  }
+};
 
 struct ParticlesToCorners {
   ParticleView particles;
@@ -54,6 +78,7 @@ struct CornersToGrid {
   float dt;
 
   ROMP_HD void operator()(Index c) const {
+    if (domains.enriched[c]) return;  // integrated on its own in grid_to_corners
     const float mass = domains.mass[c];
     const Vec3<float> momentum = domains.momentum.load(c);
     const Vec3<float> impulse = momentum + dt * domains.force.load(c);
@@ -84,6 +109,15 @@ struct GridToCorners {
       const RigidMotion& motion = step.dirichlet[group];
       v = v_old = motion.velocity_at(x);
       x = motion.moved(x, step.dt);
+    } else if (domains.enriched[c]) {
+      // A degree of freedom of its own: explicit Euler on its mass, momentum and force (Eq. 13 at
+      // the corner), then the boundaries, as the grid update does for nodes.
+      const float inverse_mass = 1.0f / domains.mass[c];
+      const Vec3<float> momentum = domains.momentum.load(c);
+      v_old = inverse_mass * momentum;
+      v = inverse_mass * (momentum + step.dt * domains.force.load(c)) + step.dt * step.gravity;
+      v = apply_boundaries(step, x, grid.dx, v);
+      x += step.dt * v;
     } else {
       const QuadraticStencil<float> stencil(x, grid.inverse_dx);
       const StencilNodes nodes(stencil, grid.table);
@@ -186,6 +220,24 @@ ParticleDomains::ParticleDomains(Backend backend, const DomainInit& init)
   }
   mass_ = DeviceBuffer<float>(backend, corner_count_);
   mass_.fill_zero();
+  enriched_ = DeviceBuffer<std::int32_t>(backend, corner_count_);
+  enriched_.fill_zero();
+  enriched_particles_ = DeviceBuffer<std::int32_t>(backend, 1);
+  enriched_particles_.fill_zero();
+  smallest_edge_ = std::numeric_limits<float>::infinity();
+  const Index n = corner_count_;
+  for (Index d = 0; d < count_; ++d) {
+    const auto corner_position = [&](int a) {
+      const Index c = init.corner[std::size_t(kDomainCorners * d + a)];
+      return Vec3<float>(init.corner_x[std::size_t(c)], init.corner_x[std::size_t(n + c)], init.corner_x[std::size_t(2 * n + c)]);
+    };
+    // Corner 0's three neighbours along the reference axes (α = 4, 2, 1).
+    for (int a : {4, 2, 1}) smallest_edge_ = std::min(smallest_edge_, norm(corner_position(a) - corner_position(0)));
+  }
+}
+
+double ParticleDomains::enriched_share(const Exec& exec) const {
+  return count_ == 0 ? 0.0 : double(enriched_particles_.to_host(exec.stream)[0]) / double(count_);
 }
 
 DomainView ParticleDomains::view() {
@@ -200,12 +252,23 @@ DomainView ParticleDomains::view() {
                     mass_.span(),
                     Vec3Planes<float>(momentum_.data(), n),
                     Vec3Planes<float>(force_.data(), n),
-                    dirichlet_group_.span()};
+                    dirichlet_group_.span(),
+                    enriched_.span(),
+                    enriched_particles_.span()};
 }
 
 std::size_t ParticleDomains::bytes() const {
   return corner_.bytes() + dirichlet_group_.bytes() + weight_.bytes() + gradient_.bytes() + x_.bytes() + v_.bytes() +
-         v_old_.bytes() + mass_.bytes() + momentum_.bytes() + force_.bytes();
+         v_old_.bytes() + mass_.bytes() + momentum_.bytes() + force_.bytes() + enriched_.bytes() +
+         enriched_particles_.bytes();
+}
+
+void mark_enrichment(const Exec& exec, const ParticleView& particles, const DomainView& domains,
+                     const StepParams& step, float threshold) {
+  memory::fill_zero(domains.enriched.data(), exec.backend, std::size_t(domains.corners) * sizeof(std::int32_t),
+                    exec.stream);
+  memory::fill_zero(domains.enriched_particles.data(), exec.backend, sizeof(std::int32_t), exec.stream);
+  if (threshold > 0.0f) for_each(exec, particles.count, MarkEnrichment{particles, domains, step, threshold});
 }
 
 void particles_to_corners(const Exec& exec, const ParticleView& particles, const DomainView& domains,

@@ -10,6 +10,12 @@
 //                         corners of a Dirichlet group follow its rigid motion;
 //   corners_to_particles  PIC/FLIP blend of Σ_α ω_αp v_α, F += Δt Σ_α v_α g_αpᵀ in the reference
 //                         configuration (Eq. 7), x_p = Σ_α ω_αp x_α so a particle never leaves its domain.
+// Dynamic enrichment (Sec. 5): mark_enrichment flags the corners of badly deformed particles first;
+// those corners skip corners_to_grid and are integrated as degrees of freedom of their own in
+// grid_to_corners (v = (p + Δt f)/m + Δt g, walls and colliders applied at the corner), the
+// interpolation inside the domain being exact in material space. Particles with some flagged
+// corners are transitional and reach both. Flags are recomputed every substep, so corners return to
+// the grid when the metric recovers.
 // Because the weights are integrals over the undeformed domain, a flat or inverted domain causes no
 // division by a vanishing current volume; neighbours stay attached through their shared corners.
 #pragma once
@@ -20,6 +26,7 @@
 #include "kernels/core/device_buffer.h"
 #include "kernels/core/exec.h"
 #include "kernels/math/mat3_planes.h"
+#include "kernels/math/scalar.h"
 #include "kernels/mpm/domain_init.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
@@ -40,7 +47,24 @@ struct DomainView {
   Vec3Planes<float> momentum;
   Vec3Planes<float> force;
   Span<const std::int32_t> dirichlet_group;
+  Span<std::int32_t> enriched;          // per corner: 1 when it is a degree of freedom of its own this substep
+  Span<std::int32_t> enriched_particles;  // [0]: particles that flagged their corners this substep
 };
+
+// Zhu et al.'s metric, normalised to (0, 1]: K(F) = 3 / (‖F‖_F ‖F⁻¹‖_F), 1 for every rotation and
+// smaller the more F distorts. (The paper's Eq. 10 omits the 3, whose K would be at most 1/3 and
+// below its threshold 0.6 at rest; it states K in [0, 1].) F's stretches are taken at least
+// `floor` (the inversion clamp), so flat and inverted F have a finite metric.
+template <class T>
+ROMP_HD_INLINE T deformation_quality(const Vec3<T>& sigma, T floor) {
+  T squares = T(0), inverse_squares = T(0);
+  for (int i = 0; i < 3; ++i) {
+    const T s = math::max(sigma[i], floor);
+    squares += s * s;
+    inverse_squares += T(1) / (s * s);
+  }
+  return T(3) / math::sqrt(squares * inverse_squares);
+}
 
 class ParticleDomains {
  public:
@@ -51,16 +75,27 @@ class ParticleDomains {
   Index count() const { return count_; }
   Index corner_count() const { return corner_count_; }
   Vec3Planes<const float> corner_positions() const { return Vec3Planes<const float>(x_.data(), corner_count_); }
+  // The shortest edge of a reference domain: the element size that bounds the explicit step while
+  // corners are enriched.
+  float smallest_edge() const { return smallest_edge_; }
+  // The share of domain particles that enriched their corners in the last substep (a host sync).
+  double enriched_share(const Exec& exec) const;
   std::vector<float> corner_positions_on_host(const Exec& exec) const { return x_.to_host(exec.stream); }
   std::size_t bytes() const;
 
  private:
   Index count_ = 0;
   Index corner_count_ = 0;
-  DeviceBuffer<std::int32_t> corner_, dirichlet_group_;
+  float smallest_edge_ = 0.0f;
+  DeviceBuffer<std::int32_t> corner_, dirichlet_group_, enriched_, enriched_particles_;
   DeviceBuffer<float> weight_, gradient_;
   DeviceBuffer<float> x_, v_, v_old_, mass_, momentum_, force_;
 };
+
+// Flags the corners of every domain particle whose deformation_quality is at most `threshold`, or
+// one of whose stretches is below its material's inversion clamp (min_stretch). threshold 0: none.
+void mark_enrichment(const Exec& exec, const ParticleView& particles, const DomainView& domains,
+                     const StepParams& step, float threshold);
 
 // The stages, in pipeline order around update_grid. Only particles with a domain take part; the
 // others go through particle_to_grid and grid_to_particle, into the same grid.

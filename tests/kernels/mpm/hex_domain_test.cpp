@@ -1,9 +1,11 @@
 // Particle-domain weights: exact values on a lattice cube, and the reproduction identities on general hexahedra.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "kernels/mpm/hex_domain.h"
+#include "kernels/mpm/particle_domains.h"
 
 namespace romp::mpm {
 namespace {
@@ -50,6 +52,17 @@ TEST(HexDomain, GeneralHexahedraReproduceConstantAndLinearFields) {
     EXPECT_LT(frobenius_norm(linear - Mat3<double>::identity()), 1e-11);
     EXPECT_GT(w.volume, 0.0);
   }
+}
+
+// K = 3 / (‖F‖_F ‖F⁻¹‖_F) from the stretches: 1 without distortion, the paper's 0.6 passed by a
+// four-fold stretch, finite for flat and inverted F through the clamp.
+TEST(DeformationQuality, OneForRotationsAndFallingWithDistortion) {
+  EXPECT_DOUBLE_EQ(deformation_quality(Vec(1, 1, 1), 0.1), 1.0);
+  EXPECT_DOUBLE_EQ(deformation_quality(Vec(2, 2, 2), 0.1), 1.0);
+  EXPECT_NEAR(deformation_quality(Vec(2, 1, 1), 0.1), 3.0 / std::sqrt(6.0 * 2.25), kTolerance);
+  EXPECT_GT(deformation_quality(Vec(2, 1, 1), 0.1), 0.6);
+  EXPECT_LT(deformation_quality(Vec(4, 1, 1), 0.1), 0.6);
+  EXPECT_NEAR(deformation_quality(Vec(1, 1, -0.5), 0.1), deformation_quality(Vec(1, 1, 0.1), 0.1), kTolerance);
 }
 
 }  // namespace
