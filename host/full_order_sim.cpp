@@ -23,6 +23,7 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
   check_particle_tables(config_, init.material, init.dirichlet_group);
   check_particle_domains(config_, init);
   if (!init.domains.empty()) domains_.emplace(exec.backend, init.domains);
+  released_.assign(config_.dirichlet.size(), false);
   // Pipeline order, as substep() runs them.
   stage_seconds_ = {{"sort", 0.0}, {"grid_build", 0.0}, {"p2g", 0.0}};
   if (enriching()) stage_seconds_.emplace_back("enrich", 0.0);
@@ -42,6 +43,7 @@ float FullOrderSim::stable_dt() {
 
 void FullOrderSim::substep(float dt) {
   ROMP_CHECK(dt > 0.0f && std::isfinite(dt), fmt::format("substep dt must be finite and > 0, got {}", dt));
+  release_ended_dirichlet_groups();
   const mpm::StepParams step = inputs_.at(time_, dt);
 
   StageClock timed(exec_, stage_seconds_);
@@ -88,6 +90,15 @@ void FullOrderSim::substep(float dt) {
     memory::copy(&id, Backend::Cpu, particles_.view().id.data() + slot, exec_.backend, sizeof id, exec_.stream);
     return std::pair<std::int64_t, std::string>(id, fmt::format("particle {}", id));
   });
+}
+
+void FullOrderSim::release_ended_dirichlet_groups() {
+  for (std::size_t g = 0; g < config_.dirichlet.size(); ++g) {
+    if (released_[g] || time_ < config_.dirichlet[g].end) continue;
+    particles_.release_dirichlet_group(exec_, std::int32_t(g));
+    if (domains_) domains_->release_dirichlet_group(exec_, std::int32_t(g));
+    released_[g] = true;
+  }
 }
 
 void FullOrderSim::advance_to(double t) {

@@ -57,6 +57,9 @@ class FullOrderSim {
   std::vector<std::pair<std::string, double>> stage_seconds() const;
 
  private:
+  // Frees the particles (and corners) of every group whose `end` has come: at the first substep that
+  // starts at or after it (also the first substep of a run resumed later).
+  void release_ended_dirichlet_groups();
   bool enriching() const { return domains_ && config_.enrichment_threshold > 0.0f; }
 
   Exec exec_;
@@ -68,6 +71,7 @@ class FullOrderSim {
   double time_ = 0.0;
   std::int64_t steps_ = 0;
   std::vector<std::pair<std::string, double>> stage_seconds_;
+  std::vector<bool> released_;  // per Dirichlet group
   double last_enriched_share_ = 0.0;
   EnrichmentStatistics enrichment_;
 };

@@ -99,6 +99,8 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
       random_(options.seed) {
   ROMP_CHECK(reference.domains.empty(),
              "objects with domains = true run full-order only: a reduced model has no particle domains");
+  for (const DirichletSpec& group : config_.dirichlet)
+    ROMP_CHECK(std::isinf(group.end), "dirichlet.end: a reduced run keeps its Dirichlet groups for the whole run");
   const Backend backend = exec.backend;
   const Index n = points_;
   ROMP_CHECK(n > 0, "a reduced simulation needs at least one material point");

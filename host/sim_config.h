@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "kernels/mpm/step.h"
@@ -16,16 +17,19 @@ struct MaterialSpec {
 };
 
 // A collider's pose at t = 0 and its constant rigid motion: center(t) = center + v t,
-// rotation(t) = exp(t [ω]×) rotation(0).
+// rotation(t) = exp(t [ω]×) rotation(0). It acts while t < end.
 struct ColliderSpec {
   mpm::ColliderState initial;
+  double end = std::numeric_limits<double>::infinity();
 };
 
-// Particles of a Dirichlet group follow v(x) = v_lin + ω × (x − pivot(t)), pivot(t) = pivot + v_lin t.
+// Particles of a Dirichlet group follow v(x) = v_lin + ω × (x − pivot(t)), pivot(t) = pivot + v_lin t,
+// until `end`, when they are released to move freely for the rest of the run.
 struct DirichletSpec {
   Vec3<float> pivot;
   Vec3<float> linear_velocity;
   Vec3<float> angular_velocity;
+  double end = std::numeric_limits<double>::infinity();
 };
 
 struct RegionLoadSpec {

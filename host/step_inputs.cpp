@@ -44,6 +44,7 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   const FullOrderConfig& config = config_;
   std::vector<mpm::ColliderState> colliders;
   for (const ColliderSpec& spec : config.colliders) {
+    if (time >= spec.end) continue;
     mpm::ColliderState c = spec.initial;
     c.center = c.center + float(time) * c.linear_velocity;
     c.rotation = rotation_from_vector(float(time) * c.angular_velocity) * c.rotation;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -74,6 +75,7 @@ struct ColliderSpecification {
   double friction = 0.0;
   Vec3<double> velocity = Vec3<double>::zero();
   Vec3<double> angular_velocity = Vec3<double>::zero();
+  double end = std::numeric_limits<double>::infinity();  // s; the collider is gone from then on
 };
 
 // Particles inside `region` at t = 0 (first matching group wins) follow a prescribed rigid motion.
@@ -83,6 +85,7 @@ struct DirichletGroupSpec {
   Vec3<double> velocity = Vec3<double>::zero();
   Vec3<double> angular_velocity = Vec3<double>::zero();
   Vec3<double> pivot = Vec3<double>::zero();  // a point on the rotation axis at t = 0
+  double end = std::numeric_limits<double>::infinity();  // s; the particles are released then
 };
 
 // An acceleration on the particles inside a box or sphere during [start, end): a poke.

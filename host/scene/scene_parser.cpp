@@ -285,6 +285,7 @@ void read_colliders(SceneReader& r, TableReader& root) {
     if (c.contact != mpm::ContactType::Sticky) c.friction = t.number("friction", 0.0, Range::non_negative());
     c.velocity = t.vec3("velocity", Vec3<double>::zero());
     c.angular_velocity = t.vec3("angular_velocity", Vec3<double>::zero());
+    if (t.has("end")) c.end = t.number("end", 0.0, Range::positive());
     t.finish();
     r.scene.colliders.push_back(c);
   }
@@ -300,6 +301,7 @@ void read_dirichlet(SceneReader& r, TableReader& root) {
     group.velocity = t.vec3("velocity", Vec3<double>::zero());
     group.angular_velocity = t.vec3("angular_velocity", Vec3<double>::zero());
     group.pivot = t.vec3("pivot", shape_center(group.region));
+    if (t.has("end")) group.end = t.number("end", 0.0, Range::positive());
     t.finish();
     r.scene.dirichlet.push_back(std::move(group));
   }

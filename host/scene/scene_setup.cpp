@@ -47,10 +47,10 @@ FullOrderConfig engine_config(const Scene& scene) {
     state.half_extents = to_float(s.half_extents);
     state.linear_velocity = to_float(s.velocity);
     state.angular_velocity = to_float(s.angular_velocity);
-    c.colliders.push_back(ColliderSpec{state});
+    c.colliders.push_back(ColliderSpec{state, s.end});
   }
   for (const DirichletGroupSpec& g : scene.dirichlet)
-    c.dirichlet.push_back(DirichletSpec{to_float(g.pivot), to_float(g.velocity), to_float(g.angular_velocity)});
+    c.dirichlet.push_back(DirichletSpec{to_float(g.pivot), to_float(g.velocity), to_float(g.angular_velocity), g.end});
   for (const PokeSpec& p : scene.pokes) {
     mpm::RegionLoad load;
     load.shape = p.region.type == ShapeType::Sphere ? mpm::RegionShape::Sphere : mpm::RegionShape::Box;

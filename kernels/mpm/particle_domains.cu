@@ -9,6 +9,7 @@
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
 #include "kernels/core/memory.h"
+#include "kernels/core/replace_value.h"
 #include "kernels/material/material.h"
 #include "kernels/material/volume.h"
 #include "kernels/math/finite.h"
@@ -234,6 +235,10 @@ ParticleDomains::ParticleDomains(Backend backend, const DomainInit& init)
     // Corner 0's three neighbours along the reference axes (α = 4, 2, 1).
     for (int a : {4, 2, 1}) smallest_edge_ = std::min(smallest_edge_, norm(corner_position(a) - corner_position(0)));
   }
+}
+
+void ParticleDomains::release_dirichlet_group(const Exec& exec, std::int32_t group) {
+  for_each(exec, corner_count_, ReplaceValue<std::int32_t>{dirichlet_group_.span(), group, kNoDirichletGroup});
 }
 
 double ParticleDomains::enriched_share(const Exec& exec) const {

@@ -82,6 +82,8 @@ class ParticleDomains {
   double enriched_share(const Exec& exec) const;
   std::vector<float> corner_positions_on_host(const Exec& exec) const { return x_.to_host(exec.stream); }
   std::size_t bytes() const;
+  // The corners that followed Dirichlet group `group` move freely from now on.
+  void release_dirichlet_group(const Exec& exec, std::int32_t group);
 
  private:
   Index count_ = 0;

@@ -8,6 +8,7 @@
 #include "kernels/core/for_each.h"
 #include "kernels/core/gather_planes.h"
 #include "kernels/core/memory.h"
+#include "kernels/core/replace_value.h"
 #include "kernels/mpm/bspline.h"
 #include "kernels/mpm/sparse_grid.h"
 
@@ -208,6 +209,10 @@ void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
   permute(exec, dirichlet_group_, 1, order);
   permute(exec, id_, 1, order);
   if (domain_.size() > 0) permute(exec, domain_, 1, order);
+}
+
+void ParticleSet::release_dirichlet_group(const Exec& exec, std::int32_t group) {
+  for_each(exec, count_, ReplaceValue<std::int32_t>{dirichlet_group_.span(), group, kNoDirichletGroup});
 }
 
 std::vector<float> ParticleSet::planes_in_initial_order(const Exec& exec, const DeviceBuffer<float>& planes,

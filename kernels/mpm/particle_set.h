@@ -64,6 +64,9 @@ class ParticleSet {
     return Span<const std::int32_t>(block_starts_.data(), block_count_ + 1);
   }
 
+  // The particles of Dirichlet group `group` move freely from now on.
+  void release_dirichlet_group(const Exec& exec, std::int32_t group);
+
   // Copies of the state in the order of the initial particles (undoing sort_by_block).
   std::vector<float> positions_in_initial_order(const Exec& exec) const;
   std::vector<float> velocities_in_initial_order(const Exec& exec) const;

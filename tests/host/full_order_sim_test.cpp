@@ -397,6 +397,36 @@ TEST(FullOrderSim, FallingBodyRestsOnAStaticCollider) {
   EXPECT_LE(lowest, 0.35f + 1.5f * dx);
 }
 
+// Time windows: a Dirichlet group holds the body still until its end, then releases it to free
+// fall; a collider that is gone no longer catches it.
+TEST(FullOrderSim, DirichletGroupAndColliderLetGoAtTheirEnd) {
+  const float dx = 1.0f / 32.0f;
+  const double release = 0.05;
+  FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
+  config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
+  config.fixed_dt = 1e-3f;
+  config.dirichlet = {DirichletSpec{Vec3<float>(0.5f, 0.5f, 0.5f), Vec3<float>::zero(), Vec3<float>::zero(), release}};
+  mpm::ColliderState table;
+  table.shape = mpm::ColliderShape::Box;
+  table.contact = mpm::ContactType::Sticky;
+  table.center = Vec3<float>(0.5f, 0.4f, 0.5f);
+  table.half_extents = Vec3<float>(0.2f, 0.05f, 0.2f);
+  config.colliders = {ColliderSpec{table, release}};
+  mpm::ParticleInit init = test::lattice_box({0.45f, 0.5f, 0.45f}, {0.55f, 0.6f, 0.55f}, dx, 2, kJellyDensity);
+  std::fill(init.dirichlet_group.begin(), init.dirichlet_group.end(), 0);
+  const Index n = init.count();
+  const float top = *std::max_element(init.x.begin() + n, init.x.begin() + 2 * n);
+  FullOrderSim sim(test::exec(), config, init);
+  sim.advance_to(release);
+  std::vector<float> x = sim.particles().positions_in_initial_order(test::exec());
+  EXPECT_EQ(*std::max_element(x.begin() + n, x.begin() + 2 * n), top);
+  sim.advance_to(release + 0.1);
+  x = sim.particles().positions_in_initial_order(test::exec());
+  // Free fall for 0.1 s drops it 4.9 cm, past where the table's top (y = 0.45) would have stopped it.
+  const float drop = top - *std::max_element(x.begin() + n, x.begin() + 2 * n);
+  EXPECT_NEAR(drop, 0.5f * 9.81f * 0.1f * 0.1f, 0.005f);
+}
+
 TEST(FullOrderSim, MovingColliderPushesTheBodyAhead) {
   const float dx = 1.0f / 32.0f;
   FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
