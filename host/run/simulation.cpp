@@ -29,6 +29,14 @@ class FullOrderRun final : public Simulation {
   std::int64_t steps() const override { return sim_.steps(); }
   std::vector<std::pair<std::string, double>> stage_seconds() const override { return sim_.stage_seconds(); }
   bool resumable() const override { return true; }
+  std::vector<std::string> diagnostics() const override {
+    const ImplicitSolveTotals* totals = sim_.implicit_totals();
+    if (totals == nullptr || totals->solves == 0) return {};
+    return {fmt::format("implicit solve: {} solves, {:.1f} CG iterations on average ({} at most), {} did not converge "
+                        "and kept the explicit velocities",
+                        totals->solves, double(totals->iterations) / double(totals->solves), totals->most_iterations,
+                        totals->not_converged)};
+  }
 
  private:
   FullOrderSim sim_;
