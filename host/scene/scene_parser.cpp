@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "host/material_library.h"
+#include "host/sim_config.h"
 #include "host/scene/toml_reader.h"
 #include "host/scene/toml_writer.h"
 #include "kernels/core/error.h"
@@ -144,7 +145,9 @@ void read_time(SceneReader& r, TableReader t) {
   if (t.has("dt")) {
     s.fixed_dt = t.number("dt", 0.0, Range::open_closed(0.0, 1.0));
   } else {
-    s.cfl = t.number("cfl", 0.5, Range::open_closed(0.0, 1.0));
+    // The implicit step is stable beyond the explicit limit ([solver] is read first).
+    const double most_cfl = s.integrator == "implicit" ? double(kImplicitMaxCfl) : 1.0;
+    s.cfl = t.number("cfl", 0.5, Range::open_closed(0.0, most_cfl));
     s.max_dt = t.number("max_dt", 1e-3, Range::open_closed(0.0, 1.0));
   }
   t.finish();
@@ -160,6 +163,7 @@ mpm::ContactType read_contact(TableReader& t, const std::string& fallback) {
 void read_solver(SceneReader& r, TableReader t) {
   r.scene.transfer = t.choice("transfer", "apic", {"apic", "pic-flip"});
   if (r.scene.transfer == "pic-flip") r.scene.flip_alpha = t.number("flip_alpha", 0.95, Range::closed(0.0, 1.0));
+  r.scene.integrator = t.choice("integrator", "explicit", {"explicit", "implicit"});
   t.finish();
 }
 
@@ -359,8 +363,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const Parame
 
   read_scene_table(r, root.optional_table("scene"), file);
   read_domain(r, root.table("domain"));
-  read_time(r, root.table("time"));
   read_solver(r, root.optional_table("solver"));
+  read_time(r, root.table("time"));
   read_boundary(r, root.optional_table("boundary"));
   read_materials(r, root.table("materials"));
   read_objects(r, root);
