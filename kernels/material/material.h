@@ -165,7 +165,8 @@ ROMP_HD PrincipalStiffness<T> definite_stiffness(const MaterialParams<T>& params
 // δP of the semidefinite stiffness: first_piola_differential where the stiffness already is
 // semidefinite, and what the implicit step linearises with everywhere.
 template <class T>
-ROMP_HD Mat3<T> first_piola_differential_definite(const MaterialParams<T>& params, const Mat3<T>& F, const Mat3<T>& dF) {
+ROMP_HD Mat3<T> first_piola_differential_definite(const MaterialParams<T>& params, const Mat3<T>& F,
+                                                  const Mat3<T>& dF) {
   return definite_stiffness(params, F).apply(dF);
 }
 

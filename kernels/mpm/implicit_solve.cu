@@ -36,7 +36,9 @@ struct ParticleStencil {
 };
 
 // The flat vectors of implicit_solve.h: component a of node n at a · nodes + n.
-ROMP_HD_INLINE Vec3Planes<float> node_vectors(Span<float> flat, Index nodes) { return Vec3Planes<float>(flat.data(), nodes); }
+ROMP_HD_INLINE Vec3Planes<float> node_vectors(Span<float> flat, Index nodes) {
+  return Vec3Planes<float>(flat.data(), nodes);
+}
 ROMP_HD_INLINE Vec3Planes<const float> node_vectors(Span<const float> flat, Index nodes) {
   return Vec3Planes<const float>(flat.data(), nodes);
 }
