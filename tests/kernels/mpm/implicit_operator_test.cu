@@ -1,7 +1,7 @@
 // The implicit step's grid operator A = M + Δt² K (kernels/mpm/implicit_solve.h) on the test binary's
 // backend: symmetric and positive definite on compressed and inverted particles, and equal to the
 // derivative of the explicit MLS force (a double-precision finite difference) where the stiffness
-// needs no definiteness fix.
+// needs no definiteness fix; and which velocity components walls and colliders hold.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,6 +17,8 @@
 #include "kernels/material/lame.h"
 #include "kernels/material/material.h"
 #include "kernels/mpm/bspline.h"
+#include "kernels/mpm/collider.h"
+#include "kernels/mpm/contact.h"
 #include "kernels/mpm/grid_boundary.h"
 #include "kernels/mpm/implicit_solve.h"
 #include "kernels/mpm/particle_set.h"
@@ -34,6 +36,16 @@ constexpr int kCells = 32;
 constexpr int kParticlesPerAxis = 8;  // 2 per cell: a block of 4 cells, 512 particles
 constexpr float kDensity = 1000.0f;
 constexpr double kYoung = 1e6, kPoisson = 0.3;
+
+// `grid` with its block keys copied to `keys` on the host, so that GridNode works there on any backend.
+GridView with_host_block_keys(const Exec& exec, const GridView& grid, std::vector<std::uint64_t>& keys) {
+  keys.resize(grid.blocks);
+  memory::copy(keys.data(), Backend::Cpu, grid.table.block_keys.data(), exec.backend, keys.size() * sizeof(std::uint64_t),
+               exec.stream);
+  GridView host_grid = grid;
+  host_grid.table.block_keys = Span<std::uint64_t>(keys.data(), grid.blocks);
+  return host_grid;
+}
 
 // Fixed corotated and neo-Hookean particles side by side (alternating), so both the SVD models and
 // the cofactor ones reach the operator through their principal-space stiffness.
@@ -94,11 +106,8 @@ class ImplicitOperatorFixture {
 
   // Grid coordinates of every active node, in the operator's node order.
   std::vector<std::tuple<int, int, int>> node_coordinates() const {
-    GridView host_grid = system_.grid;
-    std::vector<std::uint64_t> keys(system_.grid.blocks);
-    memory::copy(keys.data(), Backend::Cpu, system_.grid.table.block_keys.data(), exec_.backend,
-                 keys.size() * sizeof(std::uint64_t), exec_.stream);
-    host_grid.table.block_keys = Span<std::uint64_t>(keys.data(), Index(keys.size()));
+    std::vector<std::uint64_t> keys;
+    const GridView host_grid = with_host_block_keys(exec_, system_.grid, keys);
     std::vector<std::tuple<int, int, int>> coordinates;
     for (Index n = 0; n < nodes_; ++n) {
       const GridNode node(host_grid, n);
@@ -260,6 +269,80 @@ TEST(ImplicitOperator, IsTheDerivativeOfTheExplicitForceWhereTheStiffnessIsDefin
   // The float operator: SVDs accurate to ~1e-6 of σ₀ and sums of 27 particles' terms per node
   // (measured 7e-7).
   EXPECT_LE(std::sqrt(error / scale), 1e-5);
+}
+
+// A row of particles 2.2 cells above the floor (their stencils reach node rows y = 1, 2, 3; rows
+// y < 3 are wall nodes) and one particle around a node inside a small sphere collider. The nodes
+// get mass 1 except in the layer z = 18 (massless), and v* = (0.3, 0 or 0.5, -0.2): at the floor,
+// the nodes with an odd x index move away from it.
+TEST(ImplicitUnknowns, WallsAndCollidersHoldTheComponentsTheyFix) {
+  const Exec& exec = test::exec();
+  std::vector<Vec3<float>> positions;
+  for (int i = 0; i < 8; ++i) positions.emplace_back((10.5f + i) * kDx, 2.2f * kDx, 16.5f * kDx);
+  positions.emplace_back(24.5f * kDx, 16.5f * kDx, 16.5f * kDx);
+  const Index count = Index(positions.size());
+  std::vector<float> planes(3 * count);
+  for (Index p = 0; p < count; ++p)
+    for (int a = 0; a < 3; ++a) planes[a * count + p] = positions[p][a];
+  const DeviceBuffer<float> x = DeviceBuffer<float>::from_host(exec.backend, planes, exec.stream);
+  SparseGrid sparse_grid(exec.backend, kDx, false);
+  sparse_grid.rebuild(exec, Vec3Planes<const float>(x.data(), count));
+  const GridView grid = sparse_grid.view();
+  const Index nodes = grid.blocks * kNodesPerBlock;
+
+  std::vector<std::uint64_t> keys;
+  const GridView host_grid = with_host_block_keys(exec, grid, keys);
+  std::vector<float> mass(nodes), velocity(3 * nodes);
+  for (Index n = 0; n < nodes; ++n) {
+    const GridNode node(host_grid, n);
+    mass[n] = node.index[2] == 18 ? 0.0f : 1.0f;
+    velocity[n] = 0.3f;
+    velocity[nodes + n] = node.index[0] % 2 ? 0.5f : 0.0f;
+    velocity[2 * nodes + n] = -0.2f;
+  }
+  memory::copy(grid.mass.data(), exec.backend, mass.data(), Backend::Cpu, nodes * sizeof(float), exec.stream);
+  for (int a = 0; a < 3; ++a)
+    memory::copy(grid.velocity.data() + a * grid.velocity.count(), exec.backend, velocity.data() + a * nodes,
+                 Backend::Cpu, nodes * sizeof(float), exec.stream);
+
+  ColliderState sphere;
+  sphere.shape = ColliderShape::Sphere;
+  sphere.center = Vec3<float>(25.0f * kDx, 17.0f * kDx, 17.0f * kDx);  // a node
+  sphere.half_extents = Vec3<float>::constant(0.6f * kDx);               // and none of its neighbours
+  const DeviceBuffer<ColliderState> colliders =
+      DeviceBuffer<ColliderState>::from_host(exec.backend, std::vector<ColliderState>{sphere}, exec.stream);
+  for (const ContactType contact : {ContactType::Separate, ContactType::Sticky}) {
+    StepParams step;
+    for (int a = 0; a < 3; ++a) step.domain_cells[a] = kCells;
+    step.wall_cells = 3;
+    step.wall_contact = contact;
+    step.colliders = colliders.span();
+    DeviceBuffer<float> free(exec.backend, 3 * nodes);
+    find_free_components(exec, grid, step, free.span());
+    const std::vector<float> actual = free.to_host(exec.stream);
+    int wall_nodes = 0, separating = 0, inside = 0;
+    for (Index n = 0; n < nodes; ++n) {
+      const GridNode node(host_grid, n);
+      Vec3<float> expected = Vec3<float>::constant(1.0f);
+      if (node.index[1] < 3) {
+        ++wall_nodes;
+        separating += node.index[0] % 2;
+        expected = contact == ContactType::Sticky ? Vec3<float>::zero()
+                                                  : Vec3<float>(1.0f, node.index[0] % 2 ? 1.0f : 0.0f, 1.0f);
+      }
+      if (node.index[0] == 25 && node.index[1] == 17 && node.index[2] == 17) {
+        ++inside;
+        expected = Vec3<float>::zero();
+      }
+      if (mass[n] == 0.0f) expected = Vec3<float>::zero();
+      for (int a = 0; a < 3; ++a)
+        ASSERT_EQ(actual[a * nodes + n], expected[a])
+            << "node (" << node.index[0] << ", " << node.index[1] << ", " << node.index[2] << ") component " << a;
+    }
+    EXPECT_GT(wall_nodes, 0);
+    EXPECT_GT(separating, 0);
+    EXPECT_EQ(inside, 1);
+  }
 }
 
 }  // namespace
