@@ -10,9 +10,9 @@
 #include <sstream>
 
 #include "host/material_library.h"
-#include "host/sim_config.h"
 #include "host/scene/toml_reader.h"
 #include "host/scene/toml_writer.h"
+#include "host/sim_config.h"
 #include "kernels/core/error.h"
 #include "kernels/math/rotation.h"
 
