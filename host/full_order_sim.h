@@ -1,4 +1,5 @@
-// FullOrderSim: explicit MLS-MPM on the sparse grid, substepped under the CFL condition.
+// FullOrderSim: MLS-MPM on the sparse grid, substepped under the CFL condition; explicit, or with
+// the implicit velocity solve between grid update and G2P.
 #pragma once
 
 #include <cstdint>
@@ -6,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "host/implicit_grid_solver.h"
 #include "host/sim_config.h"
 #include "host/step_inputs.h"
 #include "kernels/core/error.h"
@@ -52,6 +54,8 @@ class FullOrderSim {
   double enriched_share() const { return last_enriched_share_; }
   const EnrichmentStatistics& enrichment_statistics() const { return enrichment_; }
   bool has_plasticity() const { return inputs_.plastic(); }
+  // The implicit solver's counts; nullptr for the explicit integrator.
+  const ImplicitSolveTotals* implicit_totals() const { return implicit_ ? &implicit_->totals() : nullptr; }
 
   // Seconds spent in each stage so far, in pipeline order (only the stages this scene runs).
   std::vector<std::pair<std::string, double>> stage_seconds() const;
@@ -68,6 +72,7 @@ class FullOrderSim {
   std::optional<mpm::ParticleDomains> domains_;
   mpm::SparseGrid grid_;
   StepInputs inputs_;
+  std::optional<ImplicitGridSolver> implicit_;  // with Integrator::Implicit only
   double time_ = 0.0;
   std::int64_t steps_ = 0;
   std::vector<std::pair<std::string, double>> stage_seconds_;

@@ -103,6 +103,9 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
     ROMP_CHECK(std::isinf(group.end), "dirichlet.end: a reduced run keeps its Dirichlet groups for the whole run");
   const Backend backend = exec.backend;
   const Index n = points_;
+  ROMP_CHECK(config_.integrator == Integrator::Explicit,
+             "solver.integrator = \"implicit\" is a full-order option: the reduced-order step is explicit "
+             "(set solver.integrator = \"explicit\" or run the scene full-order)");
   ROMP_CHECK(n > 0, "a reduced simulation needs at least one material point");
   check_particle_tables(config_, reference.material, reference.dirichlet_group);
   ROMP_CHECK(!inputs_.plastic(), "the reduced-order model covers elastic materials (ROM paper, Sec. 3.2.2)");

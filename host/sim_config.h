@@ -42,6 +42,21 @@ struct RegionLoadSpec {
 // local tile of nodes (fewer atomics; see kernels/mpm/p2g_tiled.cu).
 enum class P2GKernel { Portable, Tiled };
 
+// How the grid velocities advance: explicit symplectic Euler, or one Newton step of backward Euler
+// solved by CG on the grid (host/implicit_grid_solver.h), which is stable beyond the explicit CFL limit.
+enum class Integrator { Explicit, Implicit };
+
+// The largest cfl the implicit step accepts: it lifts the elastic wave limit, so Δt may span many
+// wave crossings of a cell; particles are still kept within a cell per step (FullOrderSim::stable_dt).
+inline constexpr float kImplicitMaxCfl = 20.0f;
+
+// The implicit step's CG: converged when ‖r‖ ≤ tolerance ‖M v*‖ (the momentum on the unknowns),
+// else it keeps the explicit velocities after max_iterations.
+struct ImplicitSolverConfig {
+  float tolerance = 1e-6f;
+  std::int32_t max_iterations = 1000;
+};
+
 struct FullOrderConfig {
   float dx = 0.0f;
   std::array<std::int32_t, 3> domain_cells{0, 0, 0};  // the domain is [0, cells dx] per axis
@@ -51,13 +66,15 @@ struct FullOrderConfig {
   std::int32_t wall_cells = 3;
   mpm::ContactType wall_contact = mpm::ContactType::Separate;
   float wall_friction = 0.0f;
-  float cfl = 0.5f;        // Δt = cfl dx / (c + |v|max)
+  float cfl = 0.5f;        // Δt = cfl dx / (c + |v|max); at most 1, or kImplicitMaxCfl when implicit
   float fixed_dt = 0.0f;   // > 0: use this Δt instead of the CFL condition
   float max_dt = 1e-3f;    // upper bound on the CFL step (a body at rest has |v| = 0)
   P2GKernel p2g = P2GKernel::Tiled;
   // Particle domains: corners of particles whose deformation quality (particle_domains.h) is at most
   // this become degrees of freedom of their own (dynamic enrichment); 0 turns enrichment off.
   float enrichment_threshold = 0.6f;
+  Integrator integrator = Integrator::Explicit;
+  ImplicitSolverConfig implicit;
   std::vector<MaterialSpec> materials;
   std::vector<ColliderSpec> colliders;
   std::vector<DirichletSpec> dirichlet;

@@ -26,7 +26,11 @@ StepInputs::StepInputs(const Exec& exec, const FullOrderConfig& config) : exec_(
                fmt::format("domain_cells[{}] = {} leaves no interior between walls of {} cells", a,
                            config.domain_cells[a], config.wall_cells));
   ROMP_CHECK(!config.materials.empty(), "a simulation needs at least one material");
-  ROMP_CHECK(config.cfl > 0.0f && config.cfl <= 1.0f, "cfl must be in (0, 1]");
+  const bool implicit = config.integrator == Integrator::Implicit;
+  const float most_cfl = implicit ? kImplicitMaxCfl : 1.0f;
+  ROMP_CHECK(config.cfl > 0.0f && config.cfl <= most_cfl,
+             fmt::format("cfl must be in (0, {}] with the {} integrator", most_cfl,
+                         implicit ? "implicit" : "explicit"));
   ROMP_CHECK(config.flip_alpha >= 0.0f && config.flip_alpha <= 1.0f, "flip_alpha must be in [0, 1]");
 
   std::vector<material::MaterialParams<float>> table;

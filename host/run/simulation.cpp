@@ -31,11 +31,19 @@ class FullOrderRun final : public Simulation {
   // Checkpoints hold particles, not the corners of particle domains.
   bool resumable() const override { return !sim_.domains(); }
   std::vector<std::string> diagnostics() const override {
+    std::vector<std::string> lines;
     const EnrichmentStatistics& enrichment = sim_.enrichment_statistics();
-    if (enrichment.substeps == 0) return {};
-    return {fmt::format("enrichment: {:.1f}% of domain particles per substep on average, {:.1f}% at most (step {})",
-                        100.0 * enrichment.share_sum / double(enrichment.substeps), 100.0 * enrichment.largest_share,
-                        enrichment.largest_share_step)};
+    if (enrichment.substeps > 0)
+      lines.push_back(fmt::format("enrichment: {:.1f}% of domain particles per substep on average, {:.1f}% at most (step {})",
+                                  100.0 * enrichment.share_sum / double(enrichment.substeps),
+                                  100.0 * enrichment.largest_share, enrichment.largest_share_step));
+    const ImplicitSolveTotals* totals = sim_.implicit_totals();
+    if (totals != nullptr && totals->solves > 0)
+      lines.push_back(fmt::format("implicit solve: {} solves, {:.1f} CG iterations on average ({} at most), {} did not "
+                                  "converge and kept the explicit velocities",
+                                  totals->solves, double(totals->iterations) / double(totals->solves),
+                                  totals->most_iterations, totals->not_converged));
+    return lines;
   }
 
  private:

@@ -114,6 +114,7 @@ struct Scene {
   std::int64_t frame_count = 0;  // frames after the initial one: end_time × frame_rate
   // Solver and walls.
   std::string transfer = "apic";
+  std::string integrator = "explicit";
   double flip_alpha = 0.95;
   double enrichment = 0.6;  // particle domains: deformation quality at or below which corners are enriched
   std::int32_t wall_cells = 3;

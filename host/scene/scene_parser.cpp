@@ -12,6 +12,7 @@
 #include "host/material_library.h"
 #include "host/scene/toml_reader.h"
 #include "host/scene/toml_writer.h"
+#include "host/sim_config.h"
 #include "kernels/core/error.h"
 #include "kernels/math/rotation.h"
 
@@ -144,7 +145,9 @@ void read_time(SceneReader& r, TableReader t) {
   if (t.has("dt")) {
     s.fixed_dt = t.number("dt", 0.0, Range::open_closed(0.0, 1.0));
   } else {
-    s.cfl = t.number("cfl", 0.5, Range::open_closed(0.0, 1.0));
+    // The implicit step is stable beyond the explicit limit ([solver] is read first).
+    const double most_cfl = s.integrator == "implicit" ? double(kImplicitMaxCfl) : 1.0;
+    s.cfl = t.number("cfl", 0.5, Range::open_closed(0.0, most_cfl));
     s.max_dt = t.number("max_dt", 1e-3, Range::open_closed(0.0, 1.0));
   }
   t.finish();
@@ -161,6 +164,7 @@ void read_solver(SceneReader& r, TableReader t) {
   r.scene.transfer = t.choice("transfer", "apic", {"apic", "pic-flip"});
   if (r.scene.transfer == "pic-flip") r.scene.flip_alpha = t.number("flip_alpha", 0.95, Range::closed(0.0, 1.0));
   r.scene.enrichment = t.number("enrichment", 0.6, Range::closed_open(0.0, 1.0));
+  r.scene.integrator = t.choice("integrator", "explicit", {"explicit", "implicit"});
   t.finish();
 }
 
@@ -367,8 +371,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const Parame
 
   read_scene_table(r, root.optional_table("scene"), file);
   read_domain(r, root.table("domain"));
-  read_time(r, root.table("time"));
   read_solver(r, root.optional_table("solver"));
+  read_time(r, root.table("time"));
   read_boundary(r, root.optional_table("boundary"));
   read_materials(r, root.table("materials"));
   read_objects(r, root);

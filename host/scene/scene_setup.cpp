@@ -30,6 +30,7 @@ FullOrderConfig engine_config(const Scene& scene) {
   c.transfer = scene.transfer == "apic" ? mpm::Transfer::Apic : mpm::Transfer::PicFlip;
   c.flip_alpha = float(scene.flip_alpha);
   c.enrichment_threshold = float(scene.enrichment);
+  c.integrator = scene.integrator == "implicit" ? Integrator::Implicit : Integrator::Explicit;
   c.wall_cells = scene.wall_cells;
   c.wall_contact = scene.wall_contact;
   c.wall_friction = float(scene.wall_friction);

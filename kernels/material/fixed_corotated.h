@@ -10,6 +10,7 @@
 
 #include "kernels/core/hd.h"
 #include "kernels/material/isotropic.h"
+#include "kernels/material/volume.h"
 #include "kernels/math/mat3.h"
 #include "kernels/math/vec3.h"
 
@@ -36,22 +37,15 @@ struct FixedCorotated {
 
   ROMP_HD Vec3<T> principal_stress(const Vec3<T>& sigma) const {
     const T volume_change = sigma[0] * sigma[1] * sigma[2] - T(1);
-    return T(2) * mu * (sigma - Vec3<T>::constant(T(1))) + lambda * volume_change * volume_gradient(sigma);
+    return T(2) * mu * (sigma - Vec3<T>::constant(T(1))) + lambda * volume_change * principal_volume_gradient(sigma);
   }
 
-  // D = 2μ I + λ (∂J/∂σ)(∂J/∂σ)ᵀ + λ (J − 1) ∂²J/∂σ², where ∂²J/∂σᵢ∂σⱼ = σₖ for i ≠ j and 0 on the diagonal.
+  // D = 2μ I + λ (∂J/∂σ)(∂J/∂σ)ᵀ + λ (J − 1) ∂²J/∂σ².
   ROMP_HD Mat3<T> principal_stress_derivative(const Vec3<T>& sigma) const {
-    const Vec3<T> gradient = volume_gradient(sigma);
+    const Vec3<T> gradient = principal_volume_gradient(sigma);
     const T volume_change = sigma[0] * sigma[1] * sigma[2] - T(1);
-    const Mat3<T> volume_hessian(T(0), sigma[2], sigma[1], sigma[2], T(0), sigma[0], sigma[1], sigma[0], T(0));
     return T(2) * mu * Mat3<T>::identity() + lambda * Mat3<T>::outer(gradient, gradient) +
-           lambda * volume_change * volume_hessian;
-  }
-
- private:
-  // ∂J/∂σ for J = σ₀σ₁σ₂: products of the other two singular values, no division.
-  ROMP_HD static Vec3<T> volume_gradient(const Vec3<T>& sigma) {
-    return Vec3<T>(sigma[1] * sigma[2], sigma[0] * sigma[2], sigma[0] * sigma[1]);
+           lambda * volume_change * principal_volume_hessian(sigma);
   }
 };
 

@@ -14,6 +14,7 @@
 #include "kernels/material/drucker_prager.h"
 #include "kernels/material/fixed_corotated.h"
 #include "kernels/material/hencky.h"
+#include "kernels/material/isotropic.h"
 #include "kernels/material/lame.h"
 #include "kernels/material/neo_hookean.h"
 #include "kernels/material/stretch_clamp.h"
@@ -121,6 +122,13 @@ struct FirstPiolaDifferential {
 };
 
 template <class T>
+struct DefiniteStiffness {
+  const Mat3<T>& F;
+  template <class Model>
+  ROMP_HD PrincipalStiffness<T> operator()(const Model& model) const { return isotropic_stiffness(model, F).definite(); }
+};
+
+template <class T>
 struct ProjectPlastic {
   const Mat3<T>& F_trial;
   template <class Model>
@@ -156,6 +164,22 @@ template <class T>
 ROMP_HD Mat3<T> first_piola_differential(const MaterialParams<T>& params, const Mat3<T>& F, const Mat3<T>& dF) {
   const Mat3<T> F_used = clamp_stretches(F, params.min_stretch);
   return visit_model(params, material_detail::FirstPiolaDifferential<T>{F_used, dF});
+}
+
+// ∂P/∂F at F made positive semidefinite (PrincipalStiffness::definite, Teran et al. 2005), formed
+// once so that it can be applied to many δF. Every model goes through its principal-space form
+// (isotropic.h), also NeoHookean and the fluid, whose plain differential needs no SVD.
+template <class T>
+ROMP_HD PrincipalStiffness<T> definite_stiffness(const MaterialParams<T>& params, const Mat3<T>& F) {
+  return visit_model(params, material_detail::DefiniteStiffness<T>{F});
+}
+
+// δP of the semidefinite stiffness: first_piola_differential where the stiffness already is
+// semidefinite, and what the implicit step linearises with everywhere.
+template <class T>
+ROMP_HD Mat3<T> first_piola_differential_definite(const MaterialParams<T>& params, const Mat3<T>& F,
+                                                  const Mat3<T>& dF) {
+  return definite_stiffness(params, F).apply(dF);
 }
 
 // The elastic F after the model's return map; F_trial itself for the elastic models.

@@ -18,6 +18,7 @@
 #include "kernels/material/volume.h"
 #include "kernels/math/mat3.h"
 #include "kernels/math/scalar.h"
+#include "kernels/math/vec3.h"
 
 namespace romp::material {
 
@@ -46,15 +47,35 @@ struct NeoHookean {
     const T J = determinant(F);
     const T J_used = math::max(J, kMinVolumeRatio<T>);
     const T log_J = std::log(J_used);
-    // φ''(J) = (λ (1 − log J) + μ) / J², zero on the tangent-line continuation.
-    const T curvature = math::select(J > kMinVolumeRatio<T>, (lambda * (T(1) - log_J) + mu) / (J_used * J_used), T(0));
     const Mat3<T> cof = cofactor(F);
-    return mu * dF + (curvature * inner(cof, dF)) * cof + volume_slope(J_used, log_J) * cofactor_differential(F, dF);
+    return mu * dF + (volume_curvature(J, J_used, log_J) * inner(cof, dF)) * cof +
+           volume_slope(J_used, log_J) * cofactor_differential(F, dF);
+  }
+
+  // The same P in the principal frame of the signed SVD (isotropic.h), where the implicit step's
+  // semidefinite stiffness is formed: with J = σ₀σ₁σ₂ and cof F = U diag(∂J/∂σ) Vᵀ,
+  //   P̂ = μ σ + φ'(J) ∂J/∂σ,   D = μ I + φ''(J) (∂J/∂σ)(∂J/∂σ)ᵀ + φ'(J) ∂²J/∂σ².
+  ROMP_HD Vec3<T> principal_stress(const Vec3<T>& sigma) const {
+    const T J_used = math::max(sigma[0] * sigma[1] * sigma[2], kMinVolumeRatio<T>);
+    return mu * sigma + volume_slope(J_used, std::log(J_used)) * principal_volume_gradient(sigma);
+  }
+
+  ROMP_HD Mat3<T> principal_stress_derivative(const Vec3<T>& sigma) const {
+    const T J = sigma[0] * sigma[1] * sigma[2];
+    const T J_used = math::max(J, kMinVolumeRatio<T>);
+    const T log_J = std::log(J_used);
+    const Vec3<T> gradient = principal_volume_gradient(sigma);
+    return mu * Mat3<T>::identity() + volume_curvature(J, J_used, log_J) * Mat3<T>::outer(gradient, gradient) +
+           volume_slope(J_used, log_J) * principal_volume_hessian(sigma);
   }
 
  private:
   // φ'(J) = (λ log J − μ) / J.
   ROMP_HD T volume_slope(T J, T log_J) const { return (lambda * log_J - mu) / J; }
+  // φ''(J) = (λ (1 − log J) + μ) / J², zero on the tangent-line continuation.
+  ROMP_HD T volume_curvature(T J, T J_used, T log_J) const {
+    return math::select(J > kMinVolumeRatio<T>, (lambda * (T(1) - log_J) + mu) / (J_used * J_used), T(0));
+  }
 };
 
 }  // namespace romp::material

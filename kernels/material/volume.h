@@ -32,4 +32,17 @@ ROMP_HD_INLINE Mat3<T> cofactor_differential(const Mat3<T>& F, const Mat3<T>& dF
                                cross(da, b) + cross(a, db));
 }
 
+// J = σ₀σ₁σ₂ as a function of the (signed) singular values: ∂J/∂σ, the products of the other two,
+// with no division, so it holds for flat and inverted F alike.
+template <class T>
+ROMP_HD_INLINE Vec3<T> principal_volume_gradient(const Vec3<T>& sigma) {
+  return Vec3<T>(sigma[1] * sigma[2], sigma[0] * sigma[2], sigma[0] * sigma[1]);
+}
+
+// ∂²J/∂σᵢ∂σⱼ = σₖ for i ≠ j (k the third index), 0 on the diagonal.
+template <class T>
+ROMP_HD_INLINE Mat3<T> principal_volume_hessian(const Vec3<T>& sigma) {
+  return Mat3<T>(T(0), sigma[2], sigma[1], sigma[2], T(0), sigma[0], sigma[1], sigma[0], T(0));
+}
+
 }  // namespace romp::material

@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "kernels/core/hd.h"
+#include "kernels/material/fixed_corotated.h"
 #include "kernels/material/volume.h"
 #include "kernels/math/mat3.h"
 #include "kernels/math/scalar.h"
@@ -35,6 +36,15 @@ struct WeaklyCompressibleFluid {
   ROMP_HD Mat3<T> first_piola_differential(const Mat3<T>& F, const Mat3<T>& dF) const {
     const Mat3<T> cof = cofactor(F);
     return (lambda * inner(cof, dF)) * cof + lambda * (determinant(F) - T(1)) * cofactor_differential(F, dF);
+  }
+
+  // In the principal frame (isotropic.h), for the implicit step's semidefinite stiffness: the
+  // principal stress and its derivative of fixed corotated with μ = 0, which this model is.
+  ROMP_HD Vec3<T> principal_stress(const Vec3<T>& sigma) const {
+    return FixedCorotated<T>{T(0), lambda}.principal_stress(sigma);
+  }
+  ROMP_HD Mat3<T> principal_stress_derivative(const Vec3<T>& sigma) const {
+    return FixedCorotated<T>{T(0), lambda}.principal_stress_derivative(sigma);
   }
 
   // J^(1/3) I with the same J, for J ≥ kMinVolumeRatio (tiny positive J included down to it; cbrt

@@ -2,7 +2,7 @@
 #include "kernels/core/atomic.h"
 #include "kernels/core/for_each.h"
 #include "kernels/math/finite.h"
-#include "kernels/mpm/boundaries.h"
+#include "kernels/mpm/grid_boundary.h"
 #include "kernels/mpm/step.h"
 
 namespace romp::mpm {
@@ -19,16 +19,7 @@ struct UpdateGrid {
     Vec3<float> v = grid.velocity.load(n) * inverse_mass;
     if (grid.keeps_old_velocity()) grid.velocity_old.store(n, grid.velocity_old.load(n) * inverse_mass);
     v += step.dt * step.gravity;
-
-    const std::uint64_t key = grid.table.block_keys[n / kNodesPerBlock];
-    const int local = int(n % kNodesPerBlock);
-    const int node[3] = {block_coordinate(key, 0) * kBlockSide + local / (kBlockSide * kBlockSide),
-                         block_coordinate(key, 1) * kBlockSide + local / kBlockSide % kBlockSide,
-                         block_coordinate(key, 2) * kBlockSide + local % kBlockSide};
-
-    v = apply_boundaries(step, Vec3<float>(float(node[0]) * grid.dx, float(node[1]) * grid.dx, float(node[2]) * grid.dx),
-                         grid.dx, v);
-
+    v = resolve_boundaries(step, GridNode(grid, n), v);
     if (!is_finite(v)) atomic_min(&step.first_failure[int(Stage::GridUpdate)], std::int64_t(n));
     grid.velocity.store(n, v);
   }

@@ -14,7 +14,7 @@
 #include "kernels/material/volume.h"
 #include "kernels/math/finite.h"
 #include "kernels/svd/svd3.h"
-#include "kernels/mpm/boundaries.h"
+#include "kernels/mpm/grid_boundary.h"
 #include "kernels/mpm/bspline.h"
 #include "kernels/mpm/stencil_nodes.h"
 
@@ -117,7 +117,7 @@ struct GridToCorners {
       const Vec3<float> momentum = domains.momentum.load(c);
       v_old = inverse_mass * momentum;
       v = inverse_mass * (momentum + step.dt * domains.force.load(c)) + step.dt * step.gravity;
-      v = apply_boundaries(step, x, grid.dx, v);
+      v = resolve_boundaries(step, x, grid.dx, v);
       x += step.dt * v;
     } else {
       const QuadraticStencil<float> stencil(x, grid.inverse_dx);

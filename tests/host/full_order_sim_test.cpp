@@ -206,28 +206,12 @@ TEST(FullOrderSim, BouncingCubeGainsNoEnergy) {
   config.wall_contact = mpm::ContactType::Separate;  // frictionless walls the body can leave
   config.wall_friction = 0.0f;
   const mpm::ParticleInit init = test::lattice_box({0.4f, 0.3f, 0.4f}, {0.6f, 0.5f, 0.6f}, dx, 2, kJellyDensity);
-  const Index n = init.count();
   FullOrderSim sim(test::exec(), config, init);
-  const material::MaterialParams<float> params = config.materials[0].params;
-  auto energy = [&] {
-    const std::vector<float> x = sim.particles().positions_in_initial_order(test::exec());
-    const std::vector<float> v = sim.particles().velocities_in_initial_order(test::exec());
-    const std::vector<float> F = sim.particles().deformation_gradients_in_initial_order(test::exec());
-    double total = 0.0;
-    for (Index p = 0; p < n; ++p) {
-      const Vec3<float> vp = test::plane_vector(v, n, p);
-      Mat3<float> Fp;
-      for (int k = 0; k < 9; ++k) Fp.m[k / 3][k % 3] = F[k * n + p];
-      total += 0.5 * init.mass[p] * squared_norm(vp) - init.mass[p] * dot(config.gravity, test::plane_vector(x, n, p)) +
-               init.volume0[p] * material::energy_density(params, Fp);
-    }
-    return total;
-  };
-  const double initial = energy();
+  const double initial = test::total_energy(sim, init);
   double highest = initial;
   while (sim.time() < 1.0) {
     sim.advance_to(std::min(1.0, sim.time() + 0.01));
-    highest = std::max(highest, energy());
+    highest = std::max(highest, test::total_energy(sim, init));
   }
   EXPECT_LE(highest, initial + 0.01 * std::abs(initial));
 }

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "host/material_library.h"
@@ -144,6 +145,17 @@ TEST(ReducedSim, PlasticMaterialsAreRejected) {
   FullOrderConfig config = falling_config();
   config.materials = {nclaw_material(NclawMaterial::Sand)};
   EXPECT_THROW(ReducedSim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {}), Error);
+}
+
+TEST(ReducedSim, TheImplicitIntegratorIsRefusedByName) {
+  FullOrderConfig config = falling_config();
+  config.integrator = Integrator::Implicit;
+  try {
+    ReducedSim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+    FAIL() << "a reduced simulation accepted the implicit integrator";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("solver.integrator"), std::string::npos) << error.what();
+  }
 }
 
 }  // namespace

@@ -55,6 +55,16 @@ TEST(SceneParser, FillsDefaultsAndEvaluatesFormulas) {
   EXPECT_FALSE(scene.sweep.has_value());
 }
 
+TEST(SceneParser, TheImplicitIntegratorAllowsALargerCfl) {
+  EXPECT_EQ(parse_scene(kCube, "cube.toml").integrator, "explicit");
+  std::string text = kCube;
+  text.replace(text.find("frame_rate = 20"), 15, "frame_rate = 20\ncfl = 20\n\n[solver]\nintegrator = \"implicit\"");
+  const Scene scene = parse_scene(text, "cube.toml");
+  EXPECT_EQ(scene.integrator, "implicit");
+  EXPECT_EQ(scene.cfl, 20.0);
+  EXPECT_NE(scene.resolved_text.find("integrator = \"implicit\""), std::string::npos) << scene.resolved_text;
+}
+
 TEST(SceneParser, OverridesReplaceDeclaredParameters) {
   const Scene scene = parse_scene(kCube, "cube.toml", {{"speed", 4.0}});
   EXPECT_EQ(scene.objects[0].velocity, Vec3<double>(4.0, 0.0, -2.0));

@@ -1,6 +1,7 @@
 // Constitutive models in double precision: energies, stresses, differentials and return maps against their definitions.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -10,6 +11,7 @@
 #include "kernels/material/drucker_prager.h"
 #include "kernels/material/fixed_corotated.h"
 #include "kernels/material/hencky.h"
+#include "kernels/material/isotropic.h"
 #include "kernels/material/lame.h"
 #include "kernels/material/material.h"
 #include "kernels/material/neo_hookean.h"
@@ -215,6 +217,72 @@ TYPED_TEST(ConstitutiveModel, DifferentialIsSymmetric) {
     const double b = inner(this->model.first_piola_differential(F, dF2), dF1);
     EXPECT_NEAR(a, b, kInvarianceTolerance * (std::abs(a) + std::abs(b))) << "sample " << sample;
   }
+}
+
+TYPED_TEST(ConstitutiveModel, PrincipalStressIsTheStressInThePrincipalFrame) {
+  // What the semidefinite stiffness is built from, for the models whose own P needs no SVD too.
+  for (int sample = 0; sample < kSamples; ++sample) {
+    const M F = sample % 2 ? large_deformation(this->rng)
+                           : random_rotation(this->rng) * M::diag(1.2, 0.8, -0.5) * random_rotation(this->rng);
+    const Svd3<double> svd = svd3(F);
+    EXPECT_LE(relative_error(from_principal(svd.U, this->model.principal_stress(svd.sigma), svd.V),
+                             this->model.first_piola(F)),
+              kInvarianceTolerance)
+        << "sample " << sample;
+  }
+}
+
+// Whether a principal-space stiffness is already semidefinite: D symmetric with every principal
+// minor ≥ 0 (Sylvester's criterion for semidefiniteness needs all seven, not only the leading ones)
+// and every pair modulus ≥ 0, each up to rounding relative to the largest entry.
+bool is_semidefinite(const PrincipalStiffness<double>& stiffness) {
+  const M& D = stiffness.D;
+  const double scale = std::max({max_abs(D), max_abs(M::diag(stiffness.symmetric_modulus)),
+                                 max_abs(M::diag(stiffness.skew_modulus))});
+  const double slack = 1e-9 * scale;
+  if (max_abs(D - transpose(D)) > 1e-12 * scale) return false;
+  for (int i = 0; i < 3; ++i) {
+    if (D(i, i) < -slack || stiffness.symmetric_modulus[i] < -slack || stiffness.skew_modulus[i] < -slack) return false;
+    const int j = (i + 1) % 3;
+    if (D(i, i) * D(j, j) - D(i, j) * D(j, i) < -slack * scale) return false;
+  }
+  return determinant(D) >= -slack * scale * scale;
+}
+
+TYPED_TEST(ConstitutiveModel, DefiniteDifferentialIsTheDifferentialWhereTheStiffnessIsSemidefinite) {
+  // Stretches just above rest and pure rotations: every model's stiffness is semidefinite for some of
+  // them (the fluid's only at J = 1, where it resists volume change alone).
+  int semidefinite = 0;
+  for (int sample = 0; sample < kSamples; ++sample) {
+    const M F = sample % 2 ? random_rotation(this->rng)
+                           : random_rotation(this->rng) *
+                                 M::diag(uniform(this->rng, 1, 1.1), uniform(this->rng, 1, 1.1), uniform(this->rng, 1, 1.1)) *
+                                 random_rotation(this->rng);
+    const PrincipalStiffness<double> stiffness = isotropic_stiffness(this->model, F);
+    if (!is_semidefinite(stiffness)) continue;
+    ++semidefinite;
+    const M dF = random_matrix(this->rng, 1.0);
+    EXPECT_LE(relative_error(stiffness.definite().apply(dF), this->model.first_piola_differential(F, dF)), 1e-9)
+        << "sample " << sample;
+  }
+  EXPECT_GE(semidefinite, kSamples / 2);
+}
+
+TYPED_TEST(ConstitutiveModel, DefiniteDifferentialIsSemidefiniteUnderCompressionAndInversion) {
+  int indefinite = 0;  // samples where the plain differential has δF : δP < 0, i.e. the fix had work to do
+  for (int sample = 0; sample < 4 * kSamples; ++sample) {
+    const M F = random_rotation(this->rng) *
+                M::diag(uniform(this->rng, 0.2, 1.5), uniform(this->rng, 0.05, 1.0), uniform(this->rng, -0.8, 0.6)) *
+                random_rotation(this->rng);
+    const PrincipalStiffness<double> definite = isotropic_stiffness(this->model, F).definite();
+    const M dF1 = random_matrix(this->rng, 1.0), dF2 = random_matrix(this->rng, 1.0);
+    const M dP1 = definite.apply(dF1), dP2 = definite.apply(dF2);
+    EXPECT_GE(inner(dF1, dP1), -1e-10 * frobenius_norm(dF1) * frobenius_norm(dP1)) << "sample " << sample;
+    const double a = inner(dP1, dF2), b = inner(dP2, dF1);
+    EXPECT_NEAR(a, b, kInvarianceTolerance * (std::abs(a) + std::abs(b))) << "sample " << sample;
+    if (inner(dF1, this->model.first_piola_differential(F, dF1)) < 0) ++indefinite;
+  }
+  EXPECT_GT(indefinite, 0);
 }
 
 TYPED_TEST(ConstitutiveModel, RotatingTheDeformedShapeRotatesTheStress) {
@@ -502,6 +570,7 @@ TEST(MaterialDispatch, ForwardsToTheModelItDescribes) {
     EXPECT_EQ(energy_density(params, F), model.energy_density(F));
     EXPECT_EQ(first_piola(params, F), model.first_piola(F));
     EXPECT_EQ(first_piola_differential(params, F, dF), model.first_piola_differential(F, dF));
+    EXPECT_EQ(first_piola_differential_definite(params, F, dF), isotropic_stiffness(model, F).definite().apply(dF));
   };
   const std::vector<MaterialParams<double>> materials = every_material();
   check(materials[0], TestModel<FixedCorotated<double>>::make());

@@ -1,0 +1,68 @@
+// The domain walls and the colliders as the grid update imposes them on one node, shared by the
+// explicit grid update and the implicit solve (which holds the velocity components they constrain).
+#pragma once
+
+#include "kernels/core/hd.h"
+#include "kernels/math/vec3.h"
+#include "kernels/mpm/collider.h"
+#include "kernels/mpm/contact.h"
+#include "kernels/mpm/sparse_grid.h"
+#include "kernels/mpm/step.h"
+
+namespace romp::mpm {
+
+// Node n of the sparse grid: its integer coordinates (in cells) and its position.
+struct GridNode {
+  int index[3];
+  Vec3<float> position;
+  float dx;
+
+  ROMP_HD GridNode(const GridView& grid, Index n) {
+    const std::uint64_t key = grid.table.block_keys[n / kNodesPerBlock];
+    const int local = int(n % kNodesPerBlock);
+    index[0] = block_coordinate(key, 0) * kBlockSide + local / (kBlockSide * kBlockSide);
+    index[1] = block_coordinate(key, 1) * kBlockSide + local / kBlockSide % kBlockSide;
+    index[2] = block_coordinate(key, 2) * kBlockSide + local % kBlockSide;
+    position = Vec3<float>(index[0] * grid.dx, index[1] * grid.dx, index[2] * grid.dx);
+    dx = grid.dx;
+  }
+
+  // Wall nodes along `axis`: within wall_cells of the low face (inward normal +e_axis) or of the high
+  // face (inward normal −e_axis).
+  ROMP_HD bool on_low_wall(const StepParams& step, int axis) const { return index[axis] < step.wall_cells; }
+  ROMP_HD bool on_high_wall(const StepParams& step, int axis) const {
+    return index[axis] > step.domain_cells[axis] - step.wall_cells;
+  }
+  ROMP_HD bool inside_a_collider(const StepParams& step) const {
+    bool inside = false;
+    for (Index c = 0; c < step.colliders.size(); ++c)
+      inside = inside || signed_distance(step.colliders[c], position).distance < 0.0f;
+    return inside;
+  }
+};
+
+// v after the walls (at rest; points within wall_cells cells of a domain face) and then each
+// collider that contains x: the grid update's rule at a node, and an enriched domain corner's at
+// the corner. For a node (x = index × dx) the wall test is GridNode's index test exactly: float
+// products of integers by one dx keep their order.
+ROMP_HD inline Vec3<float> resolve_boundaries(const StepParams& step, const Vec3<float>& x, float dx, Vec3<float> v) {
+  const Vec3<float> at_rest = Vec3<float>::zero();
+  for (int a = 0; a < 3; ++a) {
+    if (x[a] < float(step.wall_cells) * dx)
+      v = resolve_contact(v, at_rest, Vec3<float>::unit(a), step.wall_contact, step.wall_friction);
+    if (x[a] > float(step.domain_cells[a] - step.wall_cells) * dx)
+      v = resolve_contact(v, at_rest, -Vec3<float>::unit(a), step.wall_contact, step.wall_friction);
+  }
+  for (Index c = 0; c < step.colliders.size(); ++c) {
+    const ColliderState& collider = step.colliders[c];
+    const SignedDistance sd = signed_distance(collider, x);
+    if (sd.distance < 0.0f) v = resolve_contact(v, collider.velocity_at(x), sd.normal, collider.contact, collider.friction);
+  }
+  return v;
+}
+
+ROMP_HD inline Vec3<float> resolve_boundaries(const StepParams& step, const GridNode& node, Vec3<float> v) {
+  return resolve_boundaries(step, node.position, node.dx, v);
+}
+
+}  // namespace romp::mpm

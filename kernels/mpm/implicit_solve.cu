@@ -1,0 +1,236 @@
+// The implicit step's grid operator as single-source functors: particles gather δu and scatter
+// V⁰ δP Fᵀ ∇w with atomics, as P2G scatters its forces; nodes finish the products. See implicit_solve.h.
+#include "kernels/mpm/implicit_solve.h"
+
+#include <string>
+
+#include "kernels/core/atomic.h"
+#include "kernels/core/error.h"
+#include "kernels/core/for_each.h"
+#include "kernels/core/memory.h"
+#include "kernels/mpm/bspline.h"
+#include "kernels/mpm/grid_boundary.h"
+#include "kernels/mpm/stencil_nodes.h"
+
+namespace romp::mpm {
+namespace {
+
+using material::PrincipalStiffness;
+
+// A particle's stencil with its nodes and the MLS weight gradients ∇w_ip = w_ip D⁻¹ (x_i − x_p).
+struct ParticleStencil {
+  QuadraticStencil<float> stencil;
+  StencilNodes nodes;
+  float d_inverse;  // D⁻¹ = kInverseInertiaScale / dx²
+  float dx;
+
+  ROMP_HD ParticleStencil(const ParticleView& particles, const GridView& grid, Index p)
+      : stencil(particles.x.load(p), grid.inverse_dx),
+        nodes(stencil, grid.table),
+        d_inverse(kInverseInertiaScale * grid.inverse_dx * grid.inverse_dx),
+        dx(grid.dx) {}
+
+  ROMP_HD Vec3<float> weight_gradient(int i, int j, int k) const {
+    return (stencil.weight(i, j, k) * d_inverse) * stencil.offset(i, j, k, dx);
+  }
+};
+
+// The flat vectors of implicit_solve.h: component a of node n at a · nodes + n.
+ROMP_HD_INLINE Vec3Planes<float> node_vectors(Span<float> flat, Index nodes) {
+  return Vec3Planes<float>(flat.data(), nodes);
+}
+ROMP_HD_INLINE Vec3Planes<const float> node_vectors(Span<const float> flat, Index nodes) {
+  return Vec3Planes<const float>(flat.data(), nodes);
+}
+
+ROMP_HD_INLINE void atomic_add_vector(Span<float> flat, Index nodes, Index n, const Vec3<float>& value) {
+  for (int a = 0; a < 3; ++a) atomic_add(&flat[a * nodes + n], value[a]);
+}
+
+struct LineariseParticles {
+  ParticleView particles;
+  StepParams step;
+  Span<PrincipalStiffness<float>> stiffness;
+
+  ROMP_HD void operator()(Index p) const {
+    if (particles.dirichlet_group[p] != kNoDirichletGroup) {
+      const Mat3<float> I = Mat3<float>::identity();
+      stiffness[p] = PrincipalStiffness<float>{I, I, Mat3<float>::zero(), Vec3<float>::zero(), Vec3<float>::zero()};
+      return;
+    }
+    stiffness[p] = material::definite_stiffness(step.materials[particles.material[p]], particles.F.load(p));
+  }
+};
+
+struct FindFreeComponents {
+  GridView grid;
+  StepParams step;
+  Span<float> free;
+  Index nodes;
+
+  ROMP_HD void operator()(Index n) const {
+    Vec3<float> unknown = Vec3<float>::zero();
+    if (grid.mass[n] > 0.0f) {
+      const GridNode node(grid, n);
+      const Vec3<float> v = grid.velocity.load(n);
+      unknown = Vec3<float>::constant(node.inside_a_collider(step) ? 0.0f : 1.0f);
+      for (int a = 0; a < 3; ++a) {
+        const bool low = node.on_low_wall(step, a), high = node.on_high_wall(step, a);
+        if (!(low || high)) continue;
+        if (step.wall_contact == ContactType::Sticky) unknown = Vec3<float>::zero();
+        // Held unless v* moves away from the wall (inward normal +e_a on the low face, −e_a on the high one).
+        if ((low && v[a] <= 0.0f) || (high && v[a] >= 0.0f)) unknown[a] = 0.0f;
+      }
+    }
+    node_vectors(free, nodes).store(n, unknown);
+  }
+};
+
+// What the passes over particles share: Dirichlet particles are skipped (they add no stiffness),
+// and `Body` receives the particle's stencil, F, stiffness and Δt² V⁰.
+template <class Body>
+struct StiffnessPass {
+  ImplicitSystem system;
+  Body body;
+
+  ROMP_HD void operator()(Index p) const {
+    const ParticleView& particles = system.particles;
+    if (particles.dirichlet_group[p] != kNoDirichletGroup) return;
+    body(ParticleStencil(particles, system.grid, p), particles.F.load(p), system.stiffness[p],
+         system.step.dt * system.step.dt * particles.volume0[p]);
+  }
+};
+
+// Σ_p Δt² V⁰_p δF_a : δP(δF_a) into each node's components, δF_a = e_a (Fᵀ ∇w)ᵀ.
+struct StiffnessDiagonal {
+  Span<float> diagonal;
+  Index nodes;
+
+  ROMP_HD void operator()(const ParticleStencil& s, const Mat3<float>& F, const PrincipalStiffness<float>& stiffness,
+                          float scale) const {
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k) {
+          const Vec3<float> c = transpose(F) * s.weight_gradient(i, j, k);
+          Vec3<float> entries;
+          for (int a = 0; a < 3; ++a)
+            entries[a] = scale * dot(stiffness.apply(Mat3<float>::outer(Vec3<float>::unit(a), c)).row(a), c);
+          atomic_add_vector(diagonal, nodes, s.nodes.node(i, j, k), entries);
+        }
+  }
+};
+
+struct InvertDiagonal {
+  GridView grid;
+  Span<const float> free;
+  Span<float> diagonal;  // Δt² K_ii on entry, the preconditioner on exit
+  Index nodes;
+
+  ROMP_HD void operator()(Index n) const {
+    for (int a = 0; a < 3; ++a) {
+      const Index k = a * nodes + n;
+      // Free components have mass > 0 and K_ii ≥ 0, so the sum is > 0.
+      diagonal[k] = free[k] > 0.0f ? 1.0f / (grid.mass[n] + diagonal[k]) : 0.0f;
+    }
+  }
+};
+
+// Δt² K x: each particle gathers δF = (Σ_j x_j ∇w_jpᵀ) F and scatters Δt² V⁰ δP Fᵀ ∇w_ip.
+struct ApplyStiffness {
+  Span<const float> x;
+  Span<float> Kx;
+  Index nodes;
+
+  ROMP_HD void operator()(const ParticleStencil& s, const Mat3<float>& F, const PrincipalStiffness<float>& stiffness,
+                          float scale) const {
+    const Vec3Planes<const float> x_nodes = node_vectors(x, nodes);
+    Mat3<float> displacement_gradient = Mat3<float>::zero();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k)
+          displacement_gradient += Mat3<float>::outer(x_nodes.load(s.nodes.node(i, j, k)), s.weight_gradient(i, j, k));
+    const Mat3<float> force_moment = scale * times_transpose(stiffness.apply(displacement_gradient * F), F);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k)
+          atomic_add_vector(Kx, nodes, s.nodes.node(i, j, k), force_moment * s.weight_gradient(i, j, k));
+  }
+};
+
+struct FinishOperator {
+  GridView grid;
+  Span<const float> free, x;
+  Span<float> Ax;  // Δt² K x on entry (zero for the mass alone)
+  Index nodes;
+
+  ROMP_HD void operator()(Index n) const {
+    for (int a = 0; a < 3; ++a) {
+      const Index k = a * nodes + n;
+      Ax[k] = free[k] * (grid.mass[n] * x[k] + Ax[k]);
+    }
+  }
+};
+
+struct ResolveGridBoundaries {
+  GridView grid;
+  StepParams step;
+
+  ROMP_HD void operator()(Index n) const {
+    if (grid.mass[n] <= 0.0f) return;
+    grid.velocity.store(n, resolve_boundaries(step, GridNode(grid, n), grid.velocity.load(n)));
+  }
+};
+
+void check_node_vector(Span<const float> v, const GridView& grid, const char* what) {
+  ROMP_CHECK(v.size() == 3 * grid.blocks * kNodesPerBlock,
+             std::string(what) + " must hold 3 components per active grid node");
+}
+
+// S (M x + Δt² K x), or S M x without the stiffness.
+void apply_operator(const Exec& exec, const ImplicitSystem& system, Span<const float> x, Span<float> out,
+                    bool with_stiffness) {
+  check_node_vector(x, system.grid, "x");
+  check_node_vector(out, system.grid, "the operator's output");
+  const Index nodes = system.grid.blocks * kNodesPerBlock;
+  memory::fill_zero(out.data(), exec.backend, out.size() * sizeof(float), exec.stream);
+  if (with_stiffness)
+    for_each(exec, system.particles.count, StiffnessPass<ApplyStiffness>{system, ApplyStiffness{x, out, nodes}});
+  for_each(exec, nodes, FinishOperator{system.grid, system.free, x, out, nodes});
+}
+
+}  // namespace
+
+void linearise_particles(const Exec& exec, const ParticleView& particles, const StepParams& step,
+                         Span<PrincipalStiffness<float>> stiffness) {
+  ROMP_CHECK(stiffness.size() == particles.count, "linearise_particles: one stiffness per particle");
+  for_each(exec, particles.count, LineariseParticles{particles, step, stiffness});
+}
+
+void find_free_components(const Exec& exec, const GridView& grid, const StepParams& step, Span<float> free) {
+  check_node_vector(free, grid, "free");
+  const Index nodes = grid.blocks * kNodesPerBlock;
+  for_each(exec, nodes, FindFreeComponents{grid, step, free, nodes});
+}
+
+void jacobi_inverse_diagonal(const Exec& exec, const ImplicitSystem& system, Span<float> inverse_diagonal) {
+  check_node_vector(inverse_diagonal, system.grid, "inverse_diagonal");
+  const Index nodes = system.grid.blocks * kNodesPerBlock;
+  memory::fill_zero(inverse_diagonal.data(), exec.backend, inverse_diagonal.size() * sizeof(float), exec.stream);
+  for_each(exec, system.particles.count,
+           StiffnessPass<StiffnessDiagonal>{system, StiffnessDiagonal{inverse_diagonal, nodes}});
+  for_each(exec, nodes, InvertDiagonal{system.grid, system.free, inverse_diagonal, nodes});
+}
+
+void apply_implicit_operator(const Exec& exec, const ImplicitSystem& system, Span<const float> x, Span<float> Ax) {
+  apply_operator(exec, system, x, Ax, true);
+}
+
+void apply_mass(const Exec& exec, const ImplicitSystem& system, Span<const float> x, Span<float> Mx) {
+  apply_operator(exec, system, x, Mx, false);
+}
+
+void resolve_grid_boundaries(const Exec& exec, const GridView& grid, const StepParams& step) {
+  for_each(exec, grid.blocks * kNodesPerBlock, ResolveGridBoundaries{grid, step});
+}
+
+}  // namespace romp::mpm
