@@ -43,7 +43,10 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
 float FullOrderSim::stable_dt() {
   if (config_.fixed_dt > 0.0f) return config_.fixed_dt;
   const float particle_speed = mpm::max_particle_speed(exec_, particles_.view());
-  const float speed = inputs_.max_wave_speed() + particle_speed;
+  // Deformed domains are stiffer than at rest (domain_stiffening); the last substep's state stands
+  // in for this one's.
+  const float wave_speed = inputs_.max_wave_speed() * (domains_ ? std::sqrt(domains_->stiffening(exec_)) : 1.0f);
+  const float speed = wave_speed + particle_speed;
   // Enriched corners are nodes of elements as small as a domain, not a grid cell.
   const float length = enriching() ? std::min(config_.dx, domains_->smallest_edge()) : config_.dx;
   const float dt = std::min(config_.max_dt, config_.cfl * length / speed);

@@ -34,10 +34,19 @@ struct MarkEnrichment {
   ROMP_HD void operator()(Index p) const {
     if (!particles.has_domain(p)) return;
     const float floor = step.materials[particles.material[p]].min_stretch;
-    const Vec3<float> sigma = svd3(particles.F.load(p)).sigma;
-    // svd3 sorts the signed stretches: sigma[2] is the smallest.
-    const bool degenerate = sigma[2] < floor;
-    if (!degenerate && deformation_quality(sigma, math::max(floor, 1e-6f)) > threshold) return;
+    const Mat3<float> F = particles.F.load(p);
+    const float J = determinant(F), squared_norm_F = squared_frobenius_norm(F);
+    bool enrich;
+    if (J > 0.0f && 2.0f * J > floor * squared_norm_F) {
+      // No stretch below the floor (σ_min ≥ 2J/‖F‖², as in stretch_clamp.h), so no SVD is needed:
+      // ‖F⁻¹‖_F = ‖cof F‖_F / J.
+      enrich = 3.0f * J <= threshold * math::sqrt(squared_norm_F * squared_frobenius_norm(material::cofactor(F)));
+    } else {
+      // svd3 sorts the signed stretches: sigma[2] is the smallest.
+      const Vec3<float> sigma = svd3(F).sigma;
+      enrich = sigma[2] < floor || deformation_quality(sigma, math::max(floor, 1e-6f)) <= threshold;
+    }
+    if (!enrich) return;
     const Index d = particles.domain[p];
     for (int a = 0; a < kDomainCorners; ++a)
       atomic_max(&domains.enriched[domains.corner[kDomainCorners * d + a]], std::int32_t(1));
@@ -53,8 +62,11 @@ struct ParticlesToCorners {
   ROMP_HD void operator()(Index p) const {
     if (!particles.has_domain(p)) return;
     const Index d = particles.domain[p];
-    const Mat3<float> P = material::first_piola(step.materials[particles.material[p]], particles.F.load(p));
+    const material::MaterialParams<float>& params = step.materials[particles.material[p]];
+    const Mat3<float> F = particles.F.load(p);
+    const Mat3<float> P = material::first_piola(params, F);
     if (!is_finite(P)) atomic_min(&step.first_failure[int(Stage::P2G)], std::int64_t(p));
+    atomic_max(&domains.stiffening[0], domain_stiffening(material::clamp_stretches(F, params.min_stretch)));
     const float mass = particles.mass[p];
     const Vec3<float> x = particles.x.load(p);
     const Vec3<float> momentum = mass * particles.v.load(p);
@@ -103,43 +115,56 @@ struct GridToCorners {
   StepParams step;
 
   ROMP_HD void operator()(Index c) const {
-    Vec3<float> x = domains.x.load(c);
+    const Vec3<float> start = domains.x.load(c);
     Vec3<float> v = Vec3<float>::zero(), v_old = Vec3<float>::zero();
+    // The displacement is kept apart from the position: x_new − x_old would lose most of its digits
+    // to cancellation (a step moves a corner by far less than its coordinates).
+    Vec3<float> moved;
     const std::int32_t group = domains.dirichlet_group[c];
     if (group != kNoDirichletGroup) {
       const RigidMotion& motion = step.dirichlet[group];
-      v = v_old = motion.velocity_at(x);
-      x = motion.moved(x, step.dt);
-    } else if (domains.enriched[c]) {
-      // A degree of freedom of its own: explicit Euler on its mass, momentum and force (Eq. 13 at
-      // the corner), then the boundaries, as the grid update does for nodes.
-      const float inverse_mass = 1.0f / domains.mass[c];
-      const Vec3<float> momentum = domains.momentum.load(c);
-      v_old = inverse_mass * momentum;
-      v = inverse_mass * (momentum + step.dt * domains.force.load(c)) + step.dt * step.gravity;
-      v = resolve_boundaries(step, x, grid.dx, v);
-      x += step.dt * v;
+      v = v_old = motion.velocity_at(start);
+      moved = step.dt * motion.linear_velocity + (motion.step_rotation * (start - motion.pivot) - (start - motion.pivot));
     } else {
-      const QuadraticStencil<float> stencil(x, grid.inverse_dx);
-      const StencilNodes nodes(stencil, grid.table);
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          for (int k = 0; k < 3; ++k) {
-            const float w = stencil.weight(i, j, k);
-            const Index n = nodes.node(i, j, k);
-            v += w * grid.velocity.load(n);
-            v_old += w * grid.velocity_old.load(n);
-          }
-      x += step.dt * v;
+      if (domains.enriched[c]) {
+        // A degree of freedom of its own: explicit Euler on its mass, momentum and force (Eq. 13 at
+        // the corner), then the boundaries, as the grid update does for nodes.
+        const float inverse_mass = 1.0f / domains.mass[c];
+        const Vec3<float> momentum = domains.momentum.load(c);
+        v_old = inverse_mass * momentum;
+        v = inverse_mass * (momentum + step.dt * domains.force.load(c)) + step.dt * step.gravity;
+        v = resolve_boundaries(step, start, grid.dx, v);
+      } else {
+        const QuadraticStencil<float> stencil(start, grid.inverse_dx);
+        const StencilNodes nodes(stencil, grid.table);
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) {
+              const float w = stencil.weight(i, j, k);
+              const Index n = nodes.node(i, j, k);
+              v += w * grid.velocity.load(n);
+              v_old += w * grid.velocity_old.load(n);
+            }
+      }
+      moved = step.dt * v;
+      // A corner that would end up inside a collider stops on its surface, along the normal (Zhu et
+      // al., Sec. 7, after Stomakhin et al. 2013), so domains never reach into a collider.
+      for (Index k = 0; k < step.colliders.size(); ++k) {
+        const SignedDistance sd = signed_distance(step.colliders[k], start + moved);
+        if (sd.distance < 0.0f) moved -= sd.distance * sd.normal;
+      }
     }
     // Keep the corner's stencil inside the domain, as grid_to_particle does for particles.
     for (int a = 0; a < 3; ++a) {
       const float low = kDomainMarginCells * grid.dx, high = (float(step.domain_cells[a]) - kDomainMarginCells) * grid.dx;
-      x[a] = math::min(math::max(x[a], low), high);
+      const float target = start[a] + moved[a];
+      if (target < low) moved[a] = low - start[a];
+      if (target > high) moved[a] = high - start[a];
     }
-    domains.x.store(c, x);
+    domains.x.store(c, start + moved);
     domains.v.store(c, v);
     domains.v_old.store(c, v_old);
+    domains.moved.store(c, moved);
   }
 };
 
@@ -160,7 +185,7 @@ struct CornersToParticles {
       step.dirichlet[group].carry(step.dt, x, v, C, F);
     } else {
       Vec3<float> v_pic = Vec3<float>::zero(), dv_flip = Vec3<float>::zero();
-      Mat3<float> velocity_gradient = Mat3<float>::zero();  // ∇_X v, in the reference configuration
+      Mat3<float> displacement_gradient = Mat3<float>::zero();  // ∇_X Δx, in the reference configuration
       x = Vec3<float>::zero();
       for (int a = 0; a < kDomainCorners; ++a) {
         const Index entry = kDomainCorners * d + a;
@@ -169,15 +194,15 @@ struct CornersToParticles {
         const Vec3<float> v_corner = domains.v.load(c);
         v_pic += w * v_corner;
         dv_flip += w * (v_corner - domains.v_old.load(c));
-        velocity_gradient += Mat3<float>::outer(v_corner, domains.gradient.load(entry));
+        displacement_gradient += Mat3<float>::outer(domains.moved.load(c), domains.gradient.load(entry));
         x += w * domains.x.load(c);
       }
       v = step.flip_alpha * (particles.v.load(p) + dv_flip) + (1.0f - step.flip_alpha) * v_pic;
-      // C is the spatial velocity gradient ∇_X v F⁻¹ (what outputs report); a flat domain has none.
+      // C is the spatial velocity gradient ∇_X Δx F⁻¹ / Δt (what outputs report); a flat domain has none.
       const float J = determinant(F);
-      C = math::abs(J) > 1e-12f ? (1.0f / J) * times_transpose(velocity_gradient, material::cofactor(F))
+      C = math::abs(J) > 1e-12f ? (1.0f / (J * step.dt)) * times_transpose(displacement_gradient, material::cofactor(F))
                                 : Mat3<float>::zero();
-      F += step.dt * velocity_gradient;
+      F += displacement_gradient;
     }
     if (!(is_finite(x) && is_finite(v) && is_finite(F) && is_finite(C)))
       atomic_min(&step.first_failure[int(Stage::G2P)], std::int64_t(p));
@@ -215,7 +240,7 @@ ParticleDomains::ParticleDomains(Backend backend, const DomainInit& init)
     for (int a = 0; a < 3; ++a) gradient_planes[std::size_t(a * entries + e)] = init.gradient[std::size_t(3 * e + a)];
   gradient_ = DeviceBuffer<float>::from_host(backend, gradient_planes);
   x_ = DeviceBuffer<float>::from_host(backend, init.corner_x);
-  for (DeviceBuffer<float>* planes : {&v_, &v_old_, &momentum_, &force_}) {
+  for (DeviceBuffer<float>* planes : {&v_, &v_old_, &moved_, &momentum_, &force_}) {
     *planes = DeviceBuffer<float>(backend, 3 * corner_count_);
     planes->fill_zero();
   }
@@ -225,6 +250,8 @@ ParticleDomains::ParticleDomains(Backend backend, const DomainInit& init)
   enriched_.fill_zero();
   enriched_particles_ = DeviceBuffer<std::int32_t>(backend, 1);
   enriched_particles_.fill_zero();
+  const std::vector<float> at_rest{1.0f};
+  stiffening_ = DeviceBuffer<float>::from_host(backend, at_rest);
   smallest_edge_ = std::numeric_limits<float>::infinity();
   const Index n = corner_count_;
   for (Index d = 0; d < count_; ++d) {
@@ -241,6 +268,8 @@ void ParticleDomains::release_dirichlet_group(const Exec& exec, std::int32_t gro
   for_each(exec, corner_count_, ReplaceValue<std::int32_t>{dirichlet_group_.span(), group, kNoDirichletGroup});
 }
 
+float ParticleDomains::stiffening(const Exec& exec) const { return stiffening_.to_host(exec.stream)[0]; }
+
 double ParticleDomains::enriched_share(const Exec& exec) const {
   return count_ == 0 ? 0.0 : double(enriched_particles_.to_host(exec.stream)[0]) / double(count_);
 }
@@ -254,18 +283,20 @@ DomainView ParticleDomains::view() {
                     Vec3Planes<float>(x_.data(), n),
                     Vec3Planes<float>(v_.data(), n),
                     Vec3Planes<float>(v_old_.data(), n),
+                    Vec3Planes<float>(moved_.data(), n),
                     mass_.span(),
                     Vec3Planes<float>(momentum_.data(), n),
                     Vec3Planes<float>(force_.data(), n),
                     dirichlet_group_.span(),
                     enriched_.span(),
-                    enriched_particles_.span()};
+                    enriched_particles_.span(),
+                    stiffening_.span()};
 }
 
 std::size_t ParticleDomains::bytes() const {
   return corner_.bytes() + dirichlet_group_.bytes() + weight_.bytes() + gradient_.bytes() + x_.bytes() + v_.bytes() +
-         v_old_.bytes() + mass_.bytes() + momentum_.bytes() + force_.bytes() + enriched_.bytes() +
-         enriched_particles_.bytes();
+         v_old_.bytes() + moved_.bytes() + mass_.bytes() + momentum_.bytes() + force_.bytes() + enriched_.bytes() +
+         enriched_particles_.bytes() + stiffening_.bytes();
 }
 
 void mark_enrichment(const Exec& exec, const ParticleView& particles, const DomainView& domains,
@@ -284,6 +315,8 @@ void particles_to_corners(const Exec& exec, const ParticleView& particles, const
     memory::fill_zero(domains.momentum.data() + a * domains.corners, exec.backend, bytes, exec.stream);
     memory::fill_zero(domains.force.data() + a * domains.corners, exec.backend, bytes, exec.stream);
   }
+  const float at_rest = 1.0f;
+  memory::copy(domains.stiffening.data(), exec.backend, &at_rest, Backend::Cpu, sizeof at_rest, exec.stream);
   for_each(exec, particles.count, ParticlesToCorners{particles, domains, step});
 }
 
