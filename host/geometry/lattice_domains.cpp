@@ -9,6 +9,7 @@
 #include <map>
 
 #include "kernels/core/error.h"
+#include "host/geometry/primitives.h"
 #include "kernels/mpm/hex_domain.h"
 
 namespace romp::geometry {
@@ -62,6 +63,16 @@ void append_lattice_domains(mpm::ParticleInit& init, Index first, const SampledB
   }
   domains.corner_x = std::move(corner_x);
   domains.corner_dirichlet_group.resize(std::size_t(corners), mpm::kNoDirichletGroup);
+}
+
+mpm::ParticleInit sample_box_with_domains(const Vec3<float>& low, const Vec3<float>& high, const SamplingSpec& spec,
+                                          double density) {
+  const Vec3<double> lo(low[0], low[1], low[2]), hi(high[0], high[1], high[2]);
+  const SampledBody body = sample(Box{(lo + hi) * 0.5, (hi - lo) * 0.5}, spec);
+  mpm::ParticleInit init;
+  append_body(init, body, density, 0);
+  append_lattice_domains(init, 0, body, spec.spacing());
+  return init;
 }
 
 void assign_corner_dirichlet_groups(mpm::ParticleInit& init) {

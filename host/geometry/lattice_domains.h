@@ -13,6 +13,11 @@ namespace romp::geometry {
 // before without a domain get kNoDomain. Throws romp::Error when a point is not a lattice centre.
 void append_lattice_domains(mpm::ParticleInit& init, Index first, const SampledBody& body, double spacing);
 
+// The particles of the axis-aligned box [low, high] (as sample_box, which `spec` must ask for a
+// lattice), each with its lattice cell as a domain.
+mpm::ParticleInit sample_box_with_domains(const Vec3<float>& low, const Vec3<float>& high, const SamplingSpec& spec,
+                                          double density);
+
 // Every corner of the domain of a particle in a Dirichlet group follows that group (where particles
 // of several groups share a corner, the lowest group wins), so the domains glue the free material to
 // the prescribed motion.

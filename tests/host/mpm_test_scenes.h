@@ -21,13 +21,8 @@ inline mpm::ParticleInit lattice_box(const Vec3<float>& low, const Vec3<float>& 
 // lattice_box, every particle with its lattice cell as a hexahedral domain (corners shared).
 inline mpm::ParticleInit lattice_box_with_domains(const Vec3<float>& low, const Vec3<float>& high, float dx,
                                                   int per_cell, float rho) {
-  const geometry::SamplingSpec spec{geometry::SamplingMethod::Lattice, per_cell, dx};
-  const Vec3<double> lo(low[0], low[1], low[2]), hi(high[0], high[1], high[2]);
-  const geometry::SampledBody body = geometry::sample(geometry::Box{(lo + hi) * 0.5, (hi - lo) * 0.5}, spec);
-  mpm::ParticleInit init;
-  geometry::append_body(init, body, rho, 0);
-  geometry::append_lattice_domains(init, 0, body, spec.spacing());
-  return init;
+  return geometry::sample_box_with_domains(low, high, geometry::SamplingSpec{geometry::SamplingMethod::Lattice, per_cell, dx},
+                                           rho);
 }
 
 inline Vec3<float> plane_vector(const std::vector<float>& planes, Index count, Index p) {
