@@ -28,6 +28,8 @@ const std::vector<Suite> kSuites = {
     {"mlp", "deformation map g, grad g, dg/dxhat at 1k-200k points: fused kernel against LibTorch", romp::bench::run_mlp_suite},
     {"rom", "ROM error against wall time per simulated second, every quadrature x projection (--scene, --rom-model)",
      romp::bench::run_rom_suite},
+    {"stability", "robust-elasticity matrix: each case ends finite with bounded energy or stops with a message",
+     romp::bench::run_stability_suite},
 };
 
 std::string joined_command(int argc, char** argv) {
@@ -66,7 +68,7 @@ int main(int argc, char** argv) {
   app.add_option("--name", stem, "File stem of the records (default: bench-<UTC time>)");
   std::vector<std::string> sets;
   app.add_option("--scene", options.scene, "rom suite: the scene file")->check(CLI::ExistingFile);
-  app.add_option("--set", sets, "rom suite: override a declared scene parameter, name=value (repeatable)");
+  app.add_option("--set", sets, "rom suite: override a declared scene parameter; stability suite: max_youngs, substeps, seconds; name=value (repeatable)");
   app.add_option("--rom-model", options.rom_model, "rom suite: a model trained on the scene's sweep (romp train-rom)")
       ->check(CLI::ExistingFile);
   app.add_flag_callback("--list", [] {

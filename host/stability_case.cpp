@@ -70,6 +70,10 @@ Setup build(const StabilityCase& c) {
   config.gravity = Vec3<float>::zero();
   config.materials = {MaterialSpec{elastic_params(c), kDensity}};
   config.enrichment_threshold = c.enriched ? 0.6f : 0.0f;
+  if (c.implicit) {
+    config.integrator = Integrator::Implicit;
+    config.cfl = kImplicitStabilityCfl;
+  }
   config.transfer = mpm::Transfer::PicFlip;  // the enriched-MPM paper's transfer, for both variants
 
   const float centre = 0.5f * float(kCells) * kDx;
@@ -170,8 +174,8 @@ double total_energy(FullOrderSim& sim, const mpm::ParticleInit& init) {
 }  // namespace
 
 std::string StabilityCase::name() const {
-  return fmt::format("{}/E{:.0e}/nu{:.2f}/{}/{}", model_name(model), youngs_modulus, poissons_ratio,
-                     scenario_name(scenario), enriched ? "enriched" : "plain");
+  return fmt::format("{}/E{:.0e}/nu{:.2f}/{}/{}/{}", model_name(model), youngs_modulus, poissons_ratio,
+                     scenario_name(scenario), enriched ? "enriched" : "plain", implicit ? "implicit" : "explicit");
 }
 
 bool StabilityOutcome::acceptable() const {

@@ -10,6 +10,8 @@ void run_memory_suite(Context& context);
 void run_mlp_suite(Context& context);
 // Error against run time of every ROM configuration on a scene (needs --scene and --rom-model).
 void run_rom_suite(Context& context);
+// The robust-elasticity matrix: models × E × ν × scenarios × integrators × plain/enriched under a budget.
+void run_stability_suite(Context& context);
 void run_step_suite(Context& context);
 // 3x3 SVDs per second: romp against Eigen (CPU) and cuSOLVER (GPU); needs memory first for the bandwidth fraction.
 void run_svd_suite(Context& context);
