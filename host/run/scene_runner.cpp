@@ -12,6 +12,7 @@
 #include "host/build_info.h"
 #include "host/full_order_sim.h"
 #include "host/io/checkpoint.h"
+#include "host/io/obj_export.h"
 #include "host/io/io_worker.h"
 #include "host/io/snapshot_writer.h"
 #include "host/run/interrupt.h"
@@ -117,6 +118,16 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   double output_seconds = 0.0;
   auto hand_off = [&](std::int64_t frame) {
     const auto t0 = std::chrono::steady_clock::now();
+    if (!setup.embedded_meshes.empty()) {
+      const std::vector<float> corners = sim.domain_corners();
+      for (const geometry::EmbeddedMesh& mesh : setup.embedded_meshes) {
+        auto vertices = std::make_shared<const std::vector<Vec3<double>>>(mesh.deformed(setup.particles.domains, corners));
+        worker.submit([&output, &mesh, vertices, frame, &scene] {
+          io::write_obj(io::mesh_frame_path(output, mesh.name, frame), *vertices, mesh.triangles,
+                        fmt::format("{} frame {}: {} embedded in its particle domains", scene.name, frame, mesh.name));
+        });
+      }
+    }
     auto state = std::make_shared<const io::FrameData>(sim.capture());
     worker.submit([&writer, state, frame, &checkpoint_file, &scene, checkpoints] {
       writer->append_frame(*state);

@@ -28,6 +28,9 @@ class FullOrderRun final : public Simulation {
   double time() const override { return sim_.time(); }
   std::int64_t steps() const override { return sim_.steps(); }
   std::vector<std::pair<std::string, double>> stage_seconds() const override { return sim_.stage_seconds(); }
+  std::vector<float> domain_corners() override {
+    return sim_.domains() ? sim_.domains()->corner_positions_on_host(sim_.exec()) : std::vector<float>{};
+  }
   // Checkpoints hold particles, not the corners of particle domains.
   bool resumable() const override { return !sim_.domains(); }
   std::vector<std::string> diagnostics() const override {

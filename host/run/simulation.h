@@ -28,6 +28,8 @@ class Simulation {
   virtual std::vector<std::pair<std::string, double>> stage_seconds() const = 0;
   // Whether a checkpoint (a FrameData) is enough to continue this simulation.
   virtual bool resumable() const = 0;
+  // The corners of the particle domains (3 planes), empty without domains: what embedded meshes follow.
+  virtual std::vector<float> domain_corners() { return {}; }
   // Lines for the end-of-run report about solver health (e.g. iterations that did not converge).
   virtual std::vector<std::string> diagnostics() const { return {}; }
 };

@@ -122,8 +122,18 @@ SceneSetup build_scene(const Scene& scene) {
     const Index first = setup.particles.count();
     const MaterialSpecification& material = scene.materials[std::size_t(object.material)];
     geometry::append_body(setup.particles, body, material.density, object.material);
-    if (object.domains)
-      geometry::append_lattice_domains(setup.particles, first, body, sampling_for(object.sampling, scene.dx).spacing());
+    if (object.domains) {
+      const double spacing = sampling_for(object.sampling, scene.dx).spacing();
+      const Index first_domain = setup.particles.domains.count();
+      geometry::append_lattice_domains(setup.particles, first, body, spacing);
+      if (object.shape.type == ShapeType::Mesh) {
+        const ShapeSpec& s = object.shape;
+        const geometry::TriangleMesh surface =
+            geometry::fit_to(geometry::load_mesh(s.mesh_file), s.mesh_extent, s.center, s.rotation);
+        setup.embedded_meshes.push_back(
+            geometry::embed_mesh(surface, object.name, setup.particles.domains, first_domain, spacing));
+      }
+    }
     setup.particles_per_object.push_back(setup.particles.count() - first);
 
     // Rigid initial velocity about the body's centre of mass (all its particles have one mass).

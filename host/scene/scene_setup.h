@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "host/geometry/embedded_mesh.h"
 #include "host/full_order_sim.h"
 #include "host/geometry/shape.h"
 #include "host/scene/scene.h"
@@ -15,6 +16,8 @@ struct SceneSetup {
   FullOrderConfig config;
   mpm::ParticleInit particles;
   std::vector<Index> particles_per_object;  // in the order of Scene::objects
+  // The surface of every mesh object with domains, riding in them (exported per frame as OBJ).
+  std::vector<geometry::EmbeddedMesh> embedded_meshes;
 };
 
 // The solid a ShapeSpec describes (meshes are loaded and placed here).
