@@ -49,12 +49,7 @@ struct GridToParticle {
       const float low = kDomainMarginCells * grid.dx, high = (float(step.domain_cells[a]) - kDomainMarginCells) * grid.dx;
       x[a] = math::min(math::max(x[a], low), high);
     }
-    if (!(is_finite(x) && is_finite(v) && is_finite(F) && is_finite(C)))
-      atomic_min(&step.first_failure[int(Stage::G2P)], std::int64_t(p));
-    particles.x.store(p, x);
-    particles.v.store(p, v);
-    particles.C.store(p, C);
-    particles.F.store(p, F);
+    store_moved_particle(particles, step, p, x, v, C, F);
   }
 };
 

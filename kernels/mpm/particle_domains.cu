@@ -204,12 +204,7 @@ struct CornersToParticles {
                                 : Mat3<float>::zero();
       F += displacement_gradient;
     }
-    if (!(is_finite(x) && is_finite(v) && is_finite(F) && is_finite(C)))
-      atomic_min(&step.first_failure[int(Stage::G2P)], std::int64_t(p));
-    particles.x.store(p, x);
-    particles.v.store(p, v);
-    particles.C.store(p, C);
-    particles.F.store(p, F);
+    store_moved_particle(particles, step, p, x, v, C, F);
   }
 };
 

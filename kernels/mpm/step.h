@@ -4,9 +4,11 @@
 
 #include <cstdint>
 
+#include "kernels/core/atomic.h"
 #include "kernels/core/exec.h"
 #include "kernels/core/span.h"
 #include "kernels/material/material.h"
+#include "kernels/math/finite.h"
 #include "kernels/math/mat3.h"
 #include "kernels/mpm/collider.h"
 #include "kernels/mpm/particle_set.h"
@@ -94,6 +96,19 @@ void update_grid(const Exec& exec, const GridView& grid, const StepParams& step)
 void grid_to_particle(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step);
 // The return map of each plastic material, on particles not in a Dirichlet group.
 void project_plasticity(const Exec& exec, const ParticleView& particles, const StepParams& step);
+
+// Stores a particle's new state, recording it as G2P's failure when any of it is not finite: the end
+// of grid_to_particle and of corners_to_particles.
+ROMP_HD inline void store_moved_particle(const ParticleView& particles, const StepParams& step, Index p,
+                                         const Vec3<float>& x, const Vec3<float>& v, const Mat3<float>& C,
+                                         const Mat3<float>& F) {
+  if (!(is_finite(x) && is_finite(v) && is_finite(F) && is_finite(C)))
+    atomic_min(&step.first_failure[int(Stage::G2P)], std::int64_t(p));
+  particles.x.store(p, x);
+  particles.v.store(p, v);
+  particles.C.store(p, C);
+  particles.F.store(p, F);
+}
 
 // The largest particle speed (for the CFL condition); synchronises with the host.
 float max_particle_speed(const Exec& exec, const ParticleView& particles);
