@@ -171,7 +171,8 @@ ROMP_HD Mat3<T> first_piola_differential(const MaterialParams<T>& params, const 
 // (isotropic.h), also NeoHookean and the fluid, whose plain differential needs no SVD.
 template <class T>
 ROMP_HD PrincipalStiffness<T> definite_stiffness(const MaterialParams<T>& params, const Mat3<T>& F) {
-  return visit_model(params, material_detail::DefiniteStiffness<T>{F});
+  const Mat3<T> F_used = clamp_stretches(F, params.min_stretch);
+  return visit_model(params, material_detail::DefiniteStiffness<T>{F_used});
 }
 
 // δP of the semidefinite stiffness: first_piola_differential where the stiffness already is
