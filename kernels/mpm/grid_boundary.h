@@ -33,12 +33,6 @@ struct GridNode {
   ROMP_HD bool on_high_wall(const StepParams& step, int axis) const {
     return index[axis] > step.domain_cells[axis] - step.wall_cells;
   }
-  ROMP_HD bool inside_a_collider(const StepParams& step) const {
-    bool inside = false;
-    for (Index c = 0; c < step.colliders.size(); ++c)
-      inside = inside || signed_distance(step.colliders[c], position).distance < 0.0f;
-    return inside;
-  }
 };
 
 // v after the walls (at rest; points within wall_cells cells of a domain face) and then each

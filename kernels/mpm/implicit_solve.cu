@@ -62,6 +62,10 @@ struct LineariseParticles {
   }
 };
 
+// A slip or separating collider holds the velocity components whose share of its normal exceeds
+// this (all of an axis-aligned normal's, and no more; up to all three of an oblique one's).
+constexpr float kNormalShare = 0.1f;
+
 struct FindFreeComponents {
   GridView grid;
   StepParams step;
@@ -73,7 +77,21 @@ struct FindFreeComponents {
     if (grid.mass[n] > 0.0f) {
       const GridNode node(grid, n);
       const Vec3<float> v = grid.velocity.load(n);
-      unknown = Vec3<float>::constant(node.inside_a_collider(step) ? 0.0f : 1.0f);
+      unknown = Vec3<float>::constant(1.0f);
+      for (Index c = 0; c < step.colliders.size(); ++c) {
+        const ColliderState& collider = step.colliders[c];
+        const SignedDistance sd = signed_distance(collider, node.position);
+        if (sd.distance >= 0.0f) continue;
+        // Sticky: the whole node. Slip and separating: the components that carry the normal, where
+        // v* does not move away from the collider (a separating node is free, as at a wall). The
+        // tangential rest stays an unknown: held, it would be integrated explicitly at an implicit
+        // step, which is unstable (a cube under a resting slip plate at 8x the explicit step blew up).
+        const bool separating = dot(v - collider.velocity_at(node.position), sd.normal) > 0.0f;
+        for (int a = 0; a < 3; ++a)
+          if (collider.contact == ContactType::Sticky ||
+              (!(collider.contact == ContactType::Separate && separating) && math::abs(sd.normal[a]) > kNormalShare))
+            unknown[a] = 0.0f;
+      }
       for (int a = 0; a < 3; ++a) {
         const bool low = node.on_low_wall(step, a), high = node.on_high_wall(step, a);
         if (!(low || high)) continue;

@@ -22,8 +22,10 @@
 // Constrained components. The walls and colliders fix some velocity components of v* (grid_boundary.h);
 // those are held at their v* value and are not unknowns: the operator is S A S, with S the 0/1
 // diagonal `free`, and the held values enter through the initial residual S (M v* − A v*). Held are
-//   - every component of a node inside a collider: colliders are sticky by default, and a slip
-//     collider's normal is not axis-aligned, so holding the whole node keeps S diagonal;
+//   - inside a sticky collider, every component; inside a slip or separating one, the components
+//     along which its normal has a share above 0.1 (S stays diagonal: an axis-aligned normal's
+//     component exactly, an oblique normal's two or three), unless v* separates from a separating
+//     collider. Tangential components stay unknowns, for the reason below;
 //   - on a sticky wall, every component; on a slip or separating wall, the normal component when v*
 //     does not move away from the wall (there the grid update removed the approach). A node that
 //     separates from a wall is free: holding it would integrate its motion explicitly, which at an
