@@ -97,8 +97,9 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
       latent_(map_.latent),
       points_(reference.count()),
       random_(options.seed) {
-  ROMP_CHECK(reference.domains.empty(),
-             "objects with domains = true run full-order only: a reduced model has no particle domains");
+  // Particle domains are a full-order discretisation (they keep the snapshots a model is trained on
+  // free of numerical fracture); the reduced model's material points are the particles themselves,
+  // so `reference.domain` and `reference.domains` are not used here.
   for (const DirichletSpec& group : config_.dirichlet)
     ROMP_CHECK(std::isinf(group.end), "dirichlet.end: a reduced run keeps its Dirichlet groups for the whole run");
   const Backend backend = exec.backend;

@@ -118,8 +118,9 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   double output_seconds = 0.0;
   auto hand_off = [&](std::int64_t frame) {
     const auto t0 = std::chrono::steady_clock::now();
-    if (!setup.embedded_meshes.empty()) {
-      const std::vector<float> corners = sim.domain_corners();
+    // Only the full-order engine has domain corners; a reduced run of the scene writes no meshes.
+    const std::vector<float> corners = setup.embedded_meshes.empty() ? std::vector<float>{} : sim.domain_corners();
+    if (!corners.empty()) {
       for (const geometry::EmbeddedMesh& mesh : setup.embedded_meshes) {
         auto vertices = std::make_shared<const std::vector<Vec3<double>>>(mesh.deformed(setup.particles.domains, corners));
         worker.submit([&output, &mesh, vertices, frame, &scene] {
