@@ -12,6 +12,7 @@
 #include "host/full_order_sim.h"
 #include "host/geometry/lattice_domains.h"
 #include "host/geometry/sampling.h"
+#include "host/mechanical_energy.h"
 #include "kernels/material/lame.h"
 
 namespace romp {
@@ -23,6 +24,8 @@ constexpr float kSide = 0.04f;         // the cube, 8 particles per side at 2 pe
 constexpr float kDensity = 1000.0f;
 constexpr float kMinStretch = 0.1f;
 constexpr float kFloor = 3 * kDx;      // the wall nodes end here
+// Heights for the gravitational energy are measured from the floor.
+const Vec3<float> kFloorOrigin(0.0f, kFloor, 0.0f);
 
 const char* scenario_name(StabilityScenario scenario) {
   switch (scenario) {
@@ -144,33 +147,6 @@ Setup build(const StabilityCase& c) {
   return s;
 }
 
-// Kinetic + elastic + gravitational energy (J, height measured from the floor), from a read-back of
-// the particles.
-double total_energy(FullOrderSim& sim, const mpm::ParticleInit& init) {
-  const Exec& exec = sim.exec();
-  const std::vector<float> x = sim.particles().positions_in_initial_order(exec);
-  const std::vector<float> v = sim.particles().velocities_in_initial_order(exec);
-  const std::vector<float> F = sim.particles().deformation_gradients_in_initial_order(exec);
-  const material::MaterialParams<float>& params = sim.config().materials[0].params;
-  const Vec3<float> g = sim.config().gravity;
-  const Index n = init.count();
-  double energy = 0.0;
-  for (Index p = 0; p < n; ++p) {
-    Vec3<float> xp, vp;
-    Mat3<float> Fp;
-    for (int a = 0; a < 3; ++a) {
-      xp[a] = x[std::size_t(a * n + p)];
-      vp[a] = v[std::size_t(a * n + p)];
-    }
-    for (int e = 0; e < 9; ++e) Fp(e / 3, e % 3) = F[std::size_t(e * n + p)];
-    const double m = init.mass[std::size_t(p)];
-    xp[1] -= kFloor;
-    energy += 0.5 * m * double(squared_norm(vp)) - m * double(dot(g, xp)) +
-              double(init.volume0[std::size_t(p)]) * double(material::energy_density(params, Fp));
-  }
-  return energy;
-}
-
 }  // namespace
 
 std::string StabilityCase::name() const {
@@ -223,14 +199,14 @@ StabilityOutcome run_stability_case(const Exec& exec, const StabilityCase& c, co
         break;
       }
       sim.substep(float(std::min<double>(sim.stable_dt(), setup.end - sim.time())));
-      if (!reference && sim.time() >= setup.reference_time) reference = total_energy(sim, setup.init);
+      if (!reference && sim.time() >= setup.reference_time) reference = mechanical_energy(sim, setup.init, kFloorOrigin);
       if (reference && sim.time() >= next_sample) {
-        largest_after = std::max(largest_after, total_energy(sim, setup.init));
+        largest_after = std::max(largest_after, mechanical_energy(sim, setup.init, kFloorOrigin));
         next_sample += sample_interval;
       }
     }
     if (reference) {
-      largest_after = std::max(largest_after, total_energy(sim, setup.init));
+      largest_after = std::max(largest_after, mechanical_energy(sim, setup.init, kFloorOrigin));
       // A body at rest on the floor without elastic energy would have none to compare with; every
       // scenario starts with some.
       outcome.energy_ratio = *reference > 0.0 ? largest_after / *reference : 0.0;

@@ -16,25 +16,13 @@ namespace {
 
 using Cell = std::array<std::int64_t, 3>;
 
-Vec3<double> corner_position(const mpm::DomainInit& domains, const std::vector<float>& corner_x, Index d, int alpha) {
-  const Index n = domains.corner_count();
-  const Index c = domains.corner[std::size_t(mpm::kDomainCorners * d + alpha)];
-  return Vec3<double>(corner_x[std::size_t(c)], corner_x[std::size_t(n + c)], corner_x[std::size_t(2 * n + c)]);
-}
-
-// The trilinear shape function of corner α at ξ (corner order of hex_domain.h).
-double shape_function(int alpha, const Vec3<double>& xi) {
-  const Vec3<double> s = mpm::corner_reference_coordinates<double>(alpha);
-  return 0.125 * (1.0 + s[0] * xi[0]) * (1.0 + s[1] * xi[1]) * (1.0 + s[2] * xi[2]);
-}
-
 }  // namespace
 
 std::vector<Vec3<double>> EmbeddedMesh::deformed(const mpm::DomainInit& domains, const std::vector<float>& corner_x) const {
   std::vector<Vec3<double>> vertices(domain.size(), Vec3<double>::zero());
   for (std::size_t v = 0; v < domain.size(); ++v)
     for (int alpha = 0; alpha < mpm::kDomainCorners; ++alpha)
-      vertices[v] += shape_function(alpha, reference[v]) * corner_position(domains, corner_x, domain[v], alpha);
+      vertices[v] += mpm::corner_shape_function(alpha, reference[v]) * domains.corner_position(corner_x, domain[v], alpha);
   return vertices;
 }
 
@@ -43,7 +31,7 @@ EmbeddedMesh embed_mesh(const TriangleMesh& mesh, const std::string& name, const
   // Corner 0 of a lattice domain is its cell's low corner.
   std::map<Cell, std::int32_t> domain_of_cell;
   for (Index d = first_domain; d < domains.count(); ++d) {
-    const Vec3<double> low = corner_position(domains, domains.corner_x, d, 0);
+    const Vec3<double> low = domains.corner_position(domains.corner_x, d, 0);
     domain_of_cell[{std::llround(low[0] / spacing), std::llround(low[1] / spacing), std::llround(low[2] / spacing)}] =
         std::int32_t(d);
   }

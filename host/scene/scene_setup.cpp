@@ -1,6 +1,9 @@
 // Scene → FullOrderConfig and particles.
 #include "host/scene/scene_setup.h"
 
+#include <optional>
+#include <variant>
+
 #include <fmt/format.h>
 
 #include "host/geometry/lattice_domains.h"
@@ -110,9 +113,11 @@ SceneSetup build_scene(const Scene& scene) {
   for (const DirichletGroupSpec& group : scene.dirichlet) regions.push_back(make_shape(group.region));
 
   for (const ObjectSpec& object : scene.objects) {
+    std::optional<geometry::Shape> shape;
     geometry::SampledBody body;
     try {
-      body = geometry::sample(make_shape(object.shape), sampling_for(object.sampling, scene.dx));
+      shape.emplace(make_shape(object.shape));
+      body = geometry::sample(*shape, sampling_for(object.sampling, scene.dx));
     } catch (const SceneError&) {
       throw;
     } catch (const Error& error) {
@@ -126,13 +131,9 @@ SceneSetup build_scene(const Scene& scene) {
       const double spacing = sampling_for(object.sampling, scene.dx).spacing();
       const Index first_domain = setup.particles.domains.count();
       geometry::append_lattice_domains(setup.particles, first, body, spacing);
-      if (object.shape.type == ShapeType::Mesh) {
-        const ShapeSpec& s = object.shape;
-        const geometry::TriangleMesh surface =
-            geometry::fit_to(geometry::load_mesh(s.mesh_file), s.mesh_extent, s.center, s.rotation);
+      if (const auto* solid = std::get_if<geometry::MeshSolid>(&shape->variant()))
         setup.embedded_meshes.push_back(
-            geometry::embed_mesh(surface, object.name, setup.particles.domains, first_domain, spacing));
-      }
+            geometry::embed_mesh(solid->mesh(), object.name, setup.particles.domains, first_domain, spacing));
     }
     setup.particles_per_object.push_back(setup.particles.count() - first);
 

@@ -1,7 +1,7 @@
 // Per-particle and per-node math shared by the differentiable step's forward and adjoint kernels.
 #pragma once
 
-#include "kernels/core/atomic.h"
+#include "kernels/math/atomic_planes.h"
 #include "kernels/diffmpm/dense_grid.h"
 #include "kernels/diffmpm/diff_step.h"
 #include "kernels/math/mat3.h"
@@ -147,11 +147,6 @@ template <class T>
 ROMP_HD_INLINE T clamp_to_domain(const StepParams<T>& step, T x, int axis) {
   const T low = low_position_bound(step);
   return math::select(x >= low, math::min(x, high_position_bound(step, axis)), low);
-}
-
-template <class T>
-ROMP_HD_INLINE void atomic_add(const Vec3Planes<T>& planes, Index n, const Vec3<T>& value) {
-  for (int a = 0; a < 3; ++a) romp::atomic_add(&planes.data()[a * planes.count() + n], value[a]);
 }
 
 }  // namespace romp::diffmpm

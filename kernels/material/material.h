@@ -175,14 +175,6 @@ ROMP_HD PrincipalStiffness<T> definite_stiffness(const MaterialParams<T>& params
   return visit_model(params, material_detail::DefiniteStiffness<T>{F_used});
 }
 
-// δP of the semidefinite stiffness: first_piola_differential where the stiffness already is
-// semidefinite, and what the implicit step linearises with everywhere.
-template <class T>
-ROMP_HD Mat3<T> first_piola_differential_definite(const MaterialParams<T>& params, const Mat3<T>& F,
-                                                  const Mat3<T>& dF) {
-  return definite_stiffness(params, F).apply(dF);
-}
-
 // The elastic F after the model's return map; F_trial itself for the elastic models.
 template <class T>
 ROMP_HD Mat3<T> project_plastic(const MaterialParams<T>& params, const Mat3<T>& F_trial) {

@@ -18,14 +18,21 @@
 
 namespace romp::material {
 
+// Whether every principal stretch of F is at least `floor`, decided without an SVD where it can be:
+// σ_min = J / (σ_a σ_b) and σ_a σ_b ≤ (σ_a² + σ_b²) / 2 ≤ ‖F‖²/2, so σ_min ≥ 2J / ‖F‖². True means
+// certainly; false means "take the SVD" (it also holds for J ≤ 0 whenever floor ≥ 0).
+template <class T>
+ROMP_HD_INLINE bool stretches_surely_at_least(const Mat3<T>& F, T floor) {
+  return T(2) * determinant(F) > floor * squared_frobenius_norm(F);
+}
+
 // F with every principal stretch at least `floor`; F itself (bit for bit) when none is below, or
 // when floor ≤ 0 (clamping off).
 template <class T>
 ROMP_HD Mat3<T> clamp_stretches(const Mat3<T>& F, T floor) {
   if (!(floor > T(0))) return F;
-  // σ_min = J / (σ_a σ_b) and σ_a σ_b ≤ (σ_a² + σ_b²) / 2 ≤ ‖F‖²/2, so σ_min ≥ 2J / ‖F‖²: a test
-  // without an SVD that passes for every moderately deformed F (F = I: 2/3 against a floor of 0.1).
-  if (T(2) * determinant(F) > floor * squared_frobenius_norm(F)) return F;
+  // Passes for every moderately deformed F (F = I: 2/3 against a floor of 0.1).
+  if (stretches_surely_at_least(F, floor)) return F;
   const Svd3<T> svd = svd3(F);
   // σ₂ is the smallest signed singular value (svd3 sorts them).
   if (svd.sigma[2] >= floor) return F;

@@ -22,6 +22,12 @@ struct DomainInit {
   std::vector<float> gradient;                // 3 per entry: g_αp as (x, y, z) (1/m); kernels see planes
 
   Index count() const { return Index(corner.size()) / kDomainCorners; }
+  // Corner α of domain d in `planes`: 3 planes over the corners, corner_x or a later state of it.
+  Vec3<double> corner_position(const std::vector<float>& planes, Index d, int alpha) const {
+    const Index n = corner_count();
+    const std::size_t c = std::size_t(corner[std::size_t(kDomainCorners * d + alpha)]);
+    return Vec3<double>(planes[c], planes[std::size_t(n) + c], planes[2 * std::size_t(n) + c]);
+  }
   Index corner_count() const { return Index(corner_dirichlet_group.size()); }
   bool empty() const { return corner.empty(); }
 };

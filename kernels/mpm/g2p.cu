@@ -44,12 +44,7 @@ struct GridToParticle {
       x += step.dt * v;
       F = (Mat3<float>::identity() + step.dt * C) * F;
     }
-    // Keep the particle's stencil inside the domain; walls normally stop it well before this.
-    for (int a = 0; a < 3; ++a) {
-      const float low = kDomainMarginCells * grid.dx, high = (float(step.domain_cells[a]) - kDomainMarginCells) * grid.dx;
-      x[a] = math::min(math::max(x[a], low), high);
-    }
-    store_moved_particle(particles, step, p, x, v, C, F);
+    store_moved_particle(particles, step, p, kept_inside_domain(step, grid.dx, x), v, C, F);
   }
 };
 

@@ -11,6 +11,14 @@
 
 namespace romp::mpm {
 
+// Whether a point at coordinate x along `axis` lies within wall_cells cells of the low face (inward
+// normal +e_axis) or of the high face (inward normal −e_axis). For a grid node (x = index × dx) this
+// is the test index < wall_cells exactly: float products of integers by one dx keep their order.
+ROMP_HD_INLINE bool near_low_wall(const StepParams& step, float x, float dx) { return x < float(step.wall_cells) * dx; }
+ROMP_HD_INLINE bool near_high_wall(const StepParams& step, int axis, float x, float dx) {
+  return x > float(step.domain_cells[axis] - step.wall_cells) * dx;
+}
+
 // Node n of the sparse grid: its integer coordinates (in cells) and its position.
 struct GridNode {
   int index[3];
@@ -27,24 +35,20 @@ struct GridNode {
     dx = grid.dx;
   }
 
-  // Wall nodes along `axis`: within wall_cells of the low face (inward normal +e_axis) or of the high
-  // face (inward normal −e_axis).
-  ROMP_HD bool on_low_wall(const StepParams& step, int axis) const { return index[axis] < step.wall_cells; }
+  ROMP_HD bool on_low_wall(const StepParams& step, int axis) const { return near_low_wall(step, position[axis], dx); }
   ROMP_HD bool on_high_wall(const StepParams& step, int axis) const {
-    return index[axis] > step.domain_cells[axis] - step.wall_cells;
+    return near_high_wall(step, axis, position[axis], dx);
   }
 };
 
-// v after the walls (at rest; points within wall_cells cells of a domain face) and then each
-// collider that contains x: the grid update's rule at a node, and an enriched domain corner's at
-// the corner. For a node (x = index × dx) the wall test is GridNode's index test exactly: float
-// products of integers by one dx keep their order.
+// v after the walls (at rest) and then each collider that contains x: the grid update's rule at a
+// node, and an enriched domain corner's at the corner.
 ROMP_HD inline Vec3<float> resolve_boundaries(const StepParams& step, const Vec3<float>& x, float dx, Vec3<float> v) {
   const Vec3<float> at_rest = Vec3<float>::zero();
   for (int a = 0; a < 3; ++a) {
-    if (x[a] < float(step.wall_cells) * dx)
+    if (near_low_wall(step, x[a], dx))
       v = resolve_contact(v, at_rest, Vec3<float>::unit(a), step.wall_contact, step.wall_friction);
-    if (x[a] > float(step.domain_cells[a] - step.wall_cells) * dx)
+    if (near_high_wall(step, a, x[a], dx))
       v = resolve_contact(v, at_rest, -Vec3<float>::unit(a), step.wall_contact, step.wall_friction);
   }
   for (Index c = 0; c < step.colliders.size(); ++c) {

@@ -25,6 +25,21 @@ ROMP_HD_INLINE Vec3<T> corner_reference_coordinates(int corner) {
   return Vec3<T>(T(2 * (corner >> 2) - 1), T(2 * ((corner >> 1) & 1) - 1), T(2 * (corner & 1) - 1));
 }
 
+// The trilinear shape function of corner α at ξ, N_α(ξ) = Π_a (1 + s_a ξ_a)/2 with s = the corner's
+// reference coordinates, and its gradient with respect to ξ.
+template <class T>
+ROMP_HD_INLINE T corner_shape_function(int corner, const Vec3<T>& xi) {
+  const Vec3<T> s = corner_reference_coordinates<T>(corner);
+  return T(0.125) * (T(1) + s[0] * xi[0]) * (T(1) + s[1] * xi[1]) * (T(1) + s[2] * xi[2]);
+}
+
+template <class T>
+ROMP_HD_INLINE Vec3<T> corner_shape_gradient(int corner, const Vec3<T>& xi) {
+  const Vec3<T> s = corner_reference_coordinates<T>(corner);
+  const T f0 = T(0.5) * (T(1) + s[0] * xi[0]), f1 = T(0.5) * (T(1) + s[1] * xi[1]), f2 = T(0.5) * (T(1) + s[2] * xi[2]);
+  return Vec3<T>(T(0.5) * s[0] * f1 * f2, T(0.5) * s[1] * f0 * f2, T(0.5) * s[2] * f0 * f1);
+}
+
 template <class T>
 struct HexDomainWeights {
   T volume;                        // V⁰ = ∫_Ω⁰ dΩ
@@ -44,11 +59,8 @@ ROMP_HD HexDomainWeights<T> hex_domain_weights(const Vec3<T> (&X)[kDomainCorners
     Vec3<T> dN_dxi[kDomainCorners];
     Mat3<T> J = Mat3<T>::zero();  // ∂X/∂ξ
     for (int a = 0; a < kDomainCorners; ++a) {
-      const Vec3<T> s = corner_reference_coordinates<T>(a);
-      const T f0 = T(0.5) * (T(1) + s[0] * xi[0]), f1 = T(0.5) * (T(1) + s[1] * xi[1]),
-              f2 = T(0.5) * (T(1) + s[2] * xi[2]);
-      N[a] = f0 * f1 * f2;
-      dN_dxi[a] = Vec3<T>(T(0.5) * s[0] * f1 * f2, T(0.5) * s[1] * f0 * f2, T(0.5) * s[2] * f0 * f1);
+      N[a] = corner_shape_function(a, xi);
+      dN_dxi[a] = corner_shape_gradient(a, xi);
       J += Mat3<T>::outer(X[a], dN_dxi[a]);
     }
     const T det_J = determinant(J);

@@ -4,10 +4,10 @@
 
 #include <string>
 
-#include "kernels/core/atomic.h"
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
 #include "kernels/core/memory.h"
+#include "kernels/math/atomic_planes.h"
 #include "kernels/mpm/bspline.h"
 #include "kernels/mpm/grid_boundary.h"
 #include "kernels/mpm/stencil_nodes.h"
@@ -41,10 +41,6 @@ ROMP_HD_INLINE Vec3Planes<float> node_vectors(Span<float> flat, Index nodes) {
 }
 ROMP_HD_INLINE Vec3Planes<const float> node_vectors(Span<const float> flat, Index nodes) {
   return Vec3Planes<const float>(flat.data(), nodes);
-}
-
-ROMP_HD_INLINE void atomic_add_vector(Span<float> flat, Index nodes, Index n, const Vec3<float>& value) {
-  for (int a = 0; a < 3; ++a) atomic_add(&flat[a * nodes + n], value[a]);
 }
 
 struct LineariseParticles {
@@ -85,7 +81,7 @@ struct FindFreeComponents {
         // Sticky: the whole node. Slip and separating: the components that carry the normal, where
         // v* does not move away from the collider (a separating node is free, as at a wall). The
         // tangential rest stays an unknown: held, it would be integrated explicitly at an implicit
-        // step, which is unstable (a cube under a resting slip plate at 8x the explicit step blew up).
+        // step, which is unstable (ImplicitStep.CubeUnderASlipPlateStaysStable goes non-finite when they are held).
         const bool separating = dot(v - collider.velocity_at(node.position), sd.normal) > 0.0f;
         for (int a = 0; a < 3; ++a)
           if (collider.contact == ContactType::Sticky ||
@@ -133,7 +129,7 @@ struct StiffnessDiagonal {
           Vec3<float> entries;
           for (int a = 0; a < 3; ++a)
             entries[a] = scale * dot(stiffness.apply(Mat3<float>::outer(Vec3<float>::unit(a), c)).row(a), c);
-          atomic_add_vector(diagonal, nodes, s.nodes.node(i, j, k), entries);
+          atomic_add(node_vectors(diagonal, nodes), s.nodes.node(i, j, k), entries);
         }
   }
 };
@@ -171,7 +167,7 @@ struct ApplyStiffness {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         for (int k = 0; k < 3; ++k)
-          atomic_add_vector(Kx, nodes, s.nodes.node(i, j, k), force_moment * s.weight_gradient(i, j, k));
+          atomic_add(node_vectors(Kx, nodes), s.nodes.node(i, j, k), force_moment * s.weight_gradient(i, j, k));
   }
 };
 

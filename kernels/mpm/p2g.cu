@@ -1,5 +1,6 @@
 // P2G: particles scatter mass, momentum and the MLS stress impulse to their 27 grid nodes.
 #include "kernels/core/for_each.h"
+#include "kernels/math/atomic_planes.h"
 #include "kernels/mpm/p2g_particle.h"
 #include "kernels/mpm/stencil_nodes.h"
 
@@ -22,11 +23,9 @@ struct ParticleToGrid {
           const Index n = nodes.node(i, j, k);
           const Vec3<float> contribution = particle.momentum_to(i, j, k, w, grid.dx);
           atomic_add(&grid.mass[n], w * particle.mass);
-          for (int a = 0; a < 3; ++a) atomic_add(&grid.velocity.data()[a * grid.velocity.count() + n], contribution[a]);
+          atomic_add(grid.velocity, n, contribution);
           // FLIP needs the transferred velocity without this step's forces.
-          if (flip)
-            for (int a = 0; a < 3; ++a)
-              atomic_add(&grid.velocity_old.data()[a * grid.velocity_old.count() + n], w * particle.mass * particle.v[a]);
+          if (flip) atomic_add(grid.velocity_old, n, (w * particle.mass) * particle.v);
         }
   }
 };

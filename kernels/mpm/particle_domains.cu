@@ -5,12 +5,13 @@
 #include <limits>
 #include <string>
 
-#include "kernels/core/atomic.h"
+#include "kernels/math/atomic_planes.h"
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
 #include "kernels/core/memory.h"
 #include "kernels/core/replace_value.h"
 #include "kernels/material/material.h"
+#include "kernels/material/stretch_clamp.h"
 #include "kernels/material/volume.h"
 #include "kernels/math/finite.h"
 #include "kernels/svd/svd3.h"
@@ -20,10 +21,6 @@
 
 namespace romp::mpm {
 namespace {
-
-ROMP_HD_INLINE void atomic_add(const Vec3Planes<float>& planes, Index i, const Vec3<float>& value) {
-  for (int a = 0; a < 3; ++a) romp::atomic_add(&planes.data()[a * planes.count() + i], value[a]);
-}
 
 struct MarkEnrichment {
   ParticleView particles;
@@ -35,12 +32,11 @@ struct MarkEnrichment {
     if (!particles.has_domain(p)) return;
     const float floor = step.materials[particles.material[p]].min_stretch;
     const Mat3<float> F = particles.F.load(p);
-    const float J = determinant(F), squared_norm_F = squared_frobenius_norm(F);
     bool enrich;
-    if (J > 0.0f && 2.0f * J > floor * squared_norm_F) {
-      // No stretch below the floor (σ_min ≥ 2J/‖F‖², as in stretch_clamp.h), so no SVD is needed:
-      // ‖F⁻¹‖_F = ‖cof F‖_F / J.
-      enrich = 3.0f * J <= threshold * math::sqrt(squared_norm_F * squared_frobenius_norm(material::cofactor(F)));
+    if (material::stretches_surely_at_least(F, floor)) {
+      // No stretch below the floor (so J > 0) and no SVD needed: ‖F⁻¹‖_F = ‖cof F‖_F / J.
+      enrich = 3.0f * determinant(F) <=
+               threshold * math::sqrt(squared_frobenius_norm(F) * squared_frobenius_norm(material::cofactor(F)));
     } else {
       // svd3 sorts the signed stretches: sigma[2] is the smallest.
       const Vec3<float> sigma = svd3(F).sigma;
@@ -50,7 +46,7 @@ struct MarkEnrichment {
     const Index d = particles.domain[p];
     for (int a = 0; a < kDomainCorners; ++a)
       atomic_max(&domains.enriched[domains.corner[kDomainCorners * d + a]], std::int32_t(1));
-    romp::atomic_add(&domains.enriched_particles[0], std::int32_t(1));
+    atomic_add(&domains.enriched_particles[0], std::int32_t(1));
   }
 };
 
@@ -78,7 +74,7 @@ struct ParticlesToCorners {
       const Index entry = kDomainCorners * d + a;
       const Index c = domains.corner[entry];
       const float w = domains.weight[entry];
-      romp::atomic_add(&domains.mass[c], w * mass);
+      atomic_add(&domains.mass[c], w * mass);
       atomic_add(domains.momentum, c, w * momentum);
       atomic_add(domains.force, c, w * load_force - volume_stress * domains.gradient.load(entry));
     }
@@ -102,7 +98,7 @@ struct CornersToGrid {
         for (int k = 0; k < 3; ++k) {
           const float w = stencil.weight(i, j, k);
           const Index n = nodes.node(i, j, k);
-          romp::atomic_add(&grid.mass[n], w * mass);
+          atomic_add(&grid.mass[n], w * mass);
           atomic_add(grid.velocity, n, w * impulse);
           atomic_add(grid.velocity_old, n, w * momentum);
         }
@@ -124,7 +120,7 @@ struct GridToCorners {
     if (group != kNoDirichletGroup) {
       const RigidMotion& motion = step.dirichlet[group];
       v = v_old = motion.velocity_at(start);
-      moved = step.dt * motion.linear_velocity + (motion.step_rotation * (start - motion.pivot) - (start - motion.pivot));
+      moved = motion.displacement(start, step.dt);
     } else {
       if (domains.enriched[c]) {
         // A degree of freedom of its own: explicit Euler on its mass, momentum and force (Eq. 13 at
@@ -155,12 +151,9 @@ struct GridToCorners {
       }
     }
     // Keep the corner's stencil inside the domain, as grid_to_particle does for particles.
-    for (int a = 0; a < 3; ++a) {
-      const float low = kDomainMarginCells * grid.dx, high = (float(step.domain_cells[a]) - kDomainMarginCells) * grid.dx;
-      const float target = start[a] + moved[a];
-      if (target < low) moved[a] = low - start[a];
-      if (target > high) moved[a] = high - start[a];
-    }
+    const Vec3<float> target = start + moved, kept = kept_inside_domain(step, grid.dx, target);
+    for (int a = 0; a < 3; ++a)
+      if (kept[a] != target[a]) moved[a] = kept[a] - start[a];
     domains.x.store(c, start + moved);
     domains.v.store(c, v);
     domains.v_old.store(c, v_old);
@@ -247,16 +240,13 @@ ParticleDomains::ParticleDomains(Backend backend, const DomainInit& init)
   enriched_particles_.fill_zero();
   const std::vector<float> at_rest{1.0f};
   stiffening_ = DeviceBuffer<float>::from_host(backend, at_rest);
-  smallest_edge_ = std::numeric_limits<float>::infinity();
-  const Index n = corner_count_;
-  for (Index d = 0; d < count_; ++d) {
-    const auto corner_position = [&](int a) {
-      const Index c = init.corner[std::size_t(kDomainCorners * d + a)];
-      return Vec3<float>(init.corner_x[std::size_t(c)], init.corner_x[std::size_t(n + c)], init.corner_x[std::size_t(2 * n + c)]);
-    };
+  double smallest_edge = std::numeric_limits<double>::infinity();
+  for (Index d = 0; d < count_; ++d)
     // Corner 0's three neighbours along the reference axes (α = 4, 2, 1).
-    for (int a : {4, 2, 1}) smallest_edge_ = std::min(smallest_edge_, norm(corner_position(a) - corner_position(0)));
-  }
+    for (int a : {4, 2, 1})
+      smallest_edge = std::min(smallest_edge, norm(init.corner_position(init.corner_x, d, a) -
+                                                   init.corner_position(init.corner_x, d, 0)));
+  smallest_edge_ = float(smallest_edge);
 }
 
 void ParticleDomains::release_dirichlet_group(const Exec& exec, std::int32_t group) {

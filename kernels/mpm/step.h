@@ -37,6 +37,11 @@ struct RigidMotion {
   ROMP_HD Vec3<float> moved(const Vec3<float>& x, float dt) const {
     return pivot + dt * linear_velocity + step_rotation * (x - pivot);
   }
+  // moved(x, dt) − x, formed without subtracting positions (which would cancel most of its digits).
+  ROMP_HD Vec3<float> displacement(const Vec3<float>& x, float dt) const {
+    const Vec3<float> arm = x - pivot;
+    return dt * linear_velocity + (step_rotation * arm - arm);
+  }
   // A particle of the group over the substep: x and F carried along, v the rigid field at the old x,
   // C = [ω]× its velocity gradient.
   ROMP_HD void carry(float dt, Vec3<float>& x, Vec3<float>& v, Mat3<float>& C, Mat3<float>& F) const {
@@ -96,6 +101,14 @@ void update_grid(const Exec& exec, const GridView& grid, const StepParams& step)
 void grid_to_particle(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step);
 // The return map of each plastic material, on particles not in a Dirichlet group.
 void project_plasticity(const Exec& exec, const ParticleView& particles, const StepParams& step);
+
+// x moved back to kDomainMarginCells inside the domain where it left that band, so its stencil stays
+// on the grid (walls normally stop particles and corners well before).
+ROMP_HD inline Vec3<float> kept_inside_domain(const StepParams& step, float dx, Vec3<float> x) {
+  for (int a = 0; a < 3; ++a)
+    x[a] = math::min(math::max(x[a], kDomainMarginCells * dx), (float(step.domain_cells[a]) - kDomainMarginCells) * dx);
+  return x;
+}
 
 // Stores a particle's new state, recording it as G2P's failure when any of it is not finite: the end
 // of grid_to_particle and of corners_to_particles.

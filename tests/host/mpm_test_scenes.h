@@ -43,23 +43,4 @@ inline FullOrderConfig open_space_config(float dx, int cells, const MaterialSpec
   return config;
 }
 
-// Kinetic, gravitational (zero at the origin) and elastic energy of the particles, in J.
-inline double total_energy(FullOrderSim& sim, const mpm::ParticleInit& init) {
-  const Exec& exec = sim.exec();
-  const std::vector<float> x = sim.particles().positions_in_initial_order(exec);
-  const std::vector<float> v = sim.particles().velocities_in_initial_order(exec);
-  const std::vector<float> F = sim.particles().deformation_gradients_in_initial_order(exec);
-  const Index n = init.count();
-  const Vec3<float> gravity = sim.config().gravity;
-  double total = 0.0;
-  for (Index p = 0; p < n; ++p) {
-    Mat3<float> Fp;
-    for (int k = 0; k < 9; ++k) Fp.m[k / 3][k % 3] = F[k * n + p];
-    const material::MaterialParams<float>& params = sim.config().materials[init.material[p]].params;
-    total += 0.5 * init.mass[p] * squared_norm(plane_vector(v, n, p)) -
-             init.mass[p] * dot(gravity, plane_vector(x, n, p)) + init.volume0[p] * material::energy_density(params, Fp);
-  }
-  return total;
-}
-
 }  // namespace romp::test

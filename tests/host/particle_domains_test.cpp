@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 #include "host/full_order_sim.h"
@@ -101,7 +103,6 @@ TEST(ParticleDomains, EnrichmentFollowsTheDeformation) {
     test::set_plane_vector(init.v, n, p, Vec3<float>(0.0f, -8.0f * height / 0.05f, 0.0f));
   }
   FullOrderSim sim(test::exec(), config, init);
-  EXPECT_EQ(sim.enriched_share(), 0.0);
   double largest_share = 0.0;
   while (sim.time() < 0.3) {
     sim.substep(sim.stable_dt());
@@ -162,8 +163,14 @@ TEST(ParticleDomains, ReturnCloserToTheRestShapeThanPlainParticles) {
                             double(norm(high - low)));
   };
   const double with_domains = rest_error(true), plain = rest_error(false);
-  // Measured at t = 1 s: 4.1e-5 with domains and enrichment (2.7e-5 without enrichment), 2.7e-4
-  // without domains; the paper's Table 1 spans 2e-5 to 5e-3.
+  // In the test's JSON/XML report (--gtest_output); the paper's Table 1 spans 2e-5 to 5e-3.
+  const auto scientific = [](double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2e", value);
+    return std::string(text);
+  };
+  RecordProperty("rest_state_error_with_domains", scientific(with_domains));
+  RecordProperty("rest_state_error_plain", scientific(plain));
   EXPECT_LT(with_domains, 1e-4);
   EXPECT_LT(with_domains, 0.25 * plain);
 }
