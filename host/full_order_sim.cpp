@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "host/neural_materials.h"
 #include "host/stage_clock.h"
 #include "kernels/core/memory.h"
 
@@ -29,8 +30,15 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
   ROMP_CHECK(!(domains_ && config_.integrator == Integrator::Implicit),
              "solver.integrator = \"implicit\" does not cover objects with domains yet; use the explicit integrator");
   if (config_.integrator == Integrator::Implicit) implicit_.emplace(exec.backend, config_.implicit);
+  auto neural = std::make_unique<NeuralMaterials>(exec, config_.materials, particles_.count());
+  // The implicit operator needs ∂P/∂F of every material, which a learned law does not provide here.
+  ROMP_CHECK(neural->empty() || !implicit_,
+             "solver.integrator = \"implicit\" needs analytic materials; neural laws run with the explicit integrator");
+  if (!neural->empty()) neural_ = std::move(neural);
   // Pipeline order, as substep() runs them.
-  stage_seconds_ = {{"sort", 0.0}, {"grid_build", 0.0}, {"p2g", 0.0}};
+  stage_seconds_ = {{"sort", 0.0}, {"grid_build", 0.0}};
+  if (neural_) stage_seconds_.emplace_back("neural_stress", 0.0);
+  stage_seconds_.emplace_back("p2g", 0.0);
   if (enriching()) stage_seconds_.emplace_back("enrich", 0.0);
   if (domains_) stage_seconds_.insert(stage_seconds_.end(), {{"p2c", 0.0}, {"c2g", 0.0}});
   stage_seconds_.emplace_back("grid_update", 0.0);
@@ -38,7 +46,12 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
   stage_seconds_.emplace_back("g2p", 0.0);
   if (domains_) stage_seconds_.insert(stage_seconds_.end(), {{"g2c", 0.0}, {"c2p", 0.0}});
   if (inputs_.plastic()) stage_seconds_.emplace_back("plasticity", 0.0);
+  if (neural_) stage_seconds_.emplace_back("neural_plasticity", 0.0);
 }
+
+FullOrderSim::FullOrderSim(FullOrderSim&&) = default;
+FullOrderSim& FullOrderSim::operator=(FullOrderSim&&) = default;
+FullOrderSim::~FullOrderSim() = default;
 
 float FullOrderSim::stable_dt() {
   if (config_.fixed_dt > 0.0f) return config_.fixed_dt;
@@ -58,7 +71,7 @@ float FullOrderSim::stable_dt() {
 void FullOrderSim::substep(float dt) {
   ROMP_CHECK(dt > 0.0f && std::isfinite(dt), fmt::format("substep dt must be finite and > 0, got {}", dt));
   release_ended_dirichlet_groups();
-  const mpm::StepParams step = inputs_.at(time_, dt);
+  mpm::StepParams step = inputs_.at(time_, dt);
 
   StageClock timed(exec_, stage_seconds_);
   const float inverse_dx = 1.0f / config_.dx;
@@ -67,6 +80,7 @@ void FullOrderSim::substep(float dt) {
   const mpm::DomainView domains = domains_ ? domains_->view() : mpm::DomainView{};
   timed([&] { grid_.rebuild(exec_, Vec3Planes<const float>(particles.x), Vec3Planes<const float>(domains.x)); });
   const mpm::GridView grid = grid_.view();
+  if (neural_) timed([&] { step.host_stress = neural_->evaluate_stress(exec_, particles); });
   timed([&] {
     if (config_.p2g == P2GKernel::Tiled)
       mpm::particle_to_grid_tiled(exec_, particles, grid, step, particles_.block_starts());
@@ -86,6 +100,7 @@ void FullOrderSim::substep(float dt) {
     timed([&] { mpm::corners_to_particles(exec_, particles, domains, step); });
   }
   if (inputs_.plastic()) timed([&] { mpm::project_plasticity(exec_, particles, step); });
+  if (neural_) timed([&] { neural_->project_plasticity(exec_, particles, step); });
 
   time_ += dt;
   ++steps_;

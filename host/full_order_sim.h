@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +20,8 @@
 
 namespace romp {
 
+class NeuralMaterials;  // host/neural_materials.h: LibTorch stays out of this header
+
 // How much dynamic enrichment a run used: the share of domain particles that enriched their corners,
 // summed over substeps, and its largest value.
 struct EnrichmentStatistics {
@@ -32,6 +35,9 @@ class FullOrderSim {
  public:
   // `init.domains`, when not empty, gives the particles it names hexahedral domains (particle_domains.h).
   FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::ParticleInit& init);
+  FullOrderSim(FullOrderSim&&);
+  FullOrderSim& operator=(FullOrderSim&&);
+  ~FullOrderSim();
 
   // The Δt the CFL condition allows now (or the fixed Δt).
   float stable_dt();
@@ -53,7 +59,6 @@ class FullOrderSim {
   // The share of domain particles whose corners were enriched in the last substep (0 without enrichment).
   double enriched_share() const { return last_enriched_share_; }
   const EnrichmentStatistics& enrichment_statistics() const { return enrichment_; }
-  bool has_plasticity() const { return inputs_.plastic(); }
   // The implicit solver's counts; nullptr for the explicit integrator.
   const ImplicitSolveTotals* implicit_totals() const { return implicit_ ? &implicit_->totals() : nullptr; }
 
@@ -73,6 +78,7 @@ class FullOrderSim {
   mpm::SparseGrid grid_;
   StepInputs inputs_;
   std::optional<ImplicitGridSolver> implicit_;  // with Integrator::Implicit only
+  std::unique_ptr<NeuralMaterials> neural_;     // when some material is a learned law
   double time_ = 0.0;
   std::int64_t steps_ = 0;
   std::vector<std::pair<std::string, double>> stage_seconds_;

@@ -1,6 +1,13 @@
 // Parameters of the named materials, and scene materials as engine parameters.
 #include "host/material_library.h"
 
+#include "nn/nclaw/law_file.h"
+#include "nn/nclaw/rest_stiffness.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
 namespace romp {
 
 std::optional<NclawMaterial> nclaw_material_named(const std::string& name) {
@@ -47,6 +54,18 @@ scene::MaterialSpecification nclaw_preset(NclawMaterial which) {
   return m;
 }
 
+material::Lame<float> neural_law_at_rest(const std::string& law_file) {
+  nn::NeuralLaws laws = nn::read_law_file(law_file).laws;
+  laws.to(torch::kCPU, torch::kFloat64);
+  const nn::RestStiffness at_rest = nn::rest_stiffness([&](const torch::Tensor& F) { return laws.elastic->forward(F); });
+  // The CFL condition needs a positive wave speed; a law that is unstable at rest cannot be run.
+  ROMP_CHECK(std::isfinite(at_rest.p_wave_modulus()) && at_rest.p_wave_modulus() > 0.0,
+             fmt::format("{}: the elastic law's P-wave modulus at rest (lambda + 2 mu) is {} Pa; a usable law "
+                         "resists compression (> 0)",
+                         law_file, at_rest.p_wave_modulus()));
+  return {float(at_rest.mu), float(at_rest.lambda)};
+}
+
 MaterialSpec to_material_spec(const scene::MaterialSpecification& m) {
   using material::MaterialModel;
   using Params = material::MaterialParams<float>;
@@ -62,9 +81,13 @@ MaterialSpec to_material_spec(const scene::MaterialSpecification& m) {
       params = Params::drucker_prager(lame, float(m.friction_angle), float(m.cohesion));
       break;
     case MaterialModel::WeaklyCompressibleFluid: params = Params::weakly_compressible_fluid(lame.lambda); break;
+    case MaterialModel::Neural: {
+      const material::Lame<float> at_rest = neural_law_at_rest(m.neural_law);
+      return {Params::neural(at_rest), float(m.density), m.neural_law};
+    }
   }
   if (m.model != MaterialModel::WeaklyCompressibleFluid) params = params.with_min_stretch(float(m.min_stretch));
-  return {params, float(m.density)};
+  return {params, float(m.density), ""};
 }
 
 MaterialSpec nclaw_material(NclawMaterial which) { return to_material_spec(nclaw_preset(which)); }

@@ -18,8 +18,14 @@ enum class NclawMaterial { Jelly, Sand, Plasticine, Water };
 std::optional<NclawMaterial> nclaw_material_named(const std::string& name);
 scene::MaterialSpecification nclaw_preset(NclawMaterial which);
 
-// Lamé parameters from E and ν, the return-map parameters, and the density for the CFL condition.
+// Lamé parameters from E and ν, the return-map parameters, and the density for the CFL condition;
+// for a neural material, the law file and its stiffness at rest (neural_law_at_rest).
 MaterialSpec to_material_spec(const scene::MaterialSpecification& material);
+
+// μ and λ of a law file's elastic law linearised at F = I (nn::rest_stiffness), for the CFL
+// condition. Throws romp::Error naming the file when it is not a law file or its law does not
+// resist compression at rest.
+material::Lame<float> neural_law_at_rest(const std::string& law_file);
 MaterialSpec nclaw_material(NclawMaterial which);
 
 }  // namespace romp

@@ -110,6 +110,9 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   ROMP_CHECK(n > 0, "a reduced simulation needs at least one material point");
   check_particle_tables(config_, reference.material, reference.dirichlet_group);
   ROMP_CHECK(!inputs_.plastic(), "the reduced-order model covers elastic materials (ROM paper, Sec. 3.2.2)");
+  for (const MaterialSpec& m : config_.materials)
+    ROMP_CHECK(m.params.model != material::MaterialModel::Neural,
+               "the reduced-order step evaluates analytic materials in its kernels; run a scene with neural laws full-order");
   ROMP_CHECK(config_.transfer == mpm::Transfer::Apic,
              "the reduced-order step transfers with MLS-MPM (quadrature points carry no affine velocity)");
   ROMP_CHECK(Index(xhat.size()) == latent_,

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "kernels/mpm/step.h"
@@ -14,6 +15,8 @@ namespace romp {
 struct MaterialSpec {
   material::MaterialParams<float> params;
   float density = 1000.0f;  // kg/m^3, for the wave speed of the CFL condition
+  // The law file (romp-neural-law) of a MaterialModel::Neural material; empty for every other.
+  std::string neural_law;
 };
 
 // A collider's pose at t = 0 and its constant rigid motion: center(t) = center + v t,

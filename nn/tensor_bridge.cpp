@@ -27,6 +27,16 @@ torch::Device torch_device(const Exec& exec) {
   return torch::Device(torch::kCPU);
 }
 
+TorchStreamScope::TorchStreamScope(const Exec& exec) {
+  if (!exec.is_cuda()) return;
+#if ROMP_TORCH_CUDA
+  const auto device = static_cast<c10::DeviceIndex>(exec.device);
+  guard_.emplace(c10::cuda::getStreamFromExternal(exec.stream, device).unwrap());
+#else
+  throw Error("a CUDA run needs LibTorch with CUDA; this one was built without it");
+#endif
+}
+
 Exec exec_for(const torch::Tensor& tensor) {
   if (tensor.device().is_cpu()) return Exec::cpu();
   ROMP_CHECK(tensor.device().is_cuda(), "tensor on unsupported device " + tensor.device().str());

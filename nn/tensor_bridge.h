@@ -3,7 +3,10 @@
 
 #include <torch/torch.h>
 
+#include <optional>
 #include <string>
+
+#include <c10/core/StreamGuard.h>
 
 #include "kernels/core/error.h"
 #include "kernels/core/exec.h"
@@ -17,6 +20,17 @@ torch::Device torch_device(const Exec& exec);
 // The Exec a tensor's data lives on; on CUDA it uses PyTorch's current stream for that device, so
 // romp kernels and LibTorch ops on the same tensors stay ordered.
 Exec exec_for(const torch::Tensor& tensor);
+
+// While alive, LibTorch queues its work for `exec`'s CUDA device on exec.stream, so torch ops on
+// tensors that alias engine memory run in order with romp's kernels on that stream, with no
+// synchronisation. Does nothing for the CPU.
+class TorchStreamScope {
+ public:
+  explicit TorchStreamScope(const Exec& exec);
+
+ private:
+  std::optional<c10::StreamGuard> guard_;
+};
 
 // A tensor of `shape` that aliases `span` (no copy). The span must outlive the tensor.
 template <class T>

@@ -53,6 +53,7 @@ struct MaterialSpecification {
   double friction_angle = 30.0;    // Drucker–Prager (degrees)
   double cohesion = 0.0;           // Drucker–Prager
   double min_stretch = 0.1;        // inversion handling: stress sees principal stretches >= this (0: off); not fluids
+  std::string neural_law;          // MaterialModel::Neural: the law file (absolute path), from `neural = "law.h5"`
 };
 
 struct ObjectSpec {

@@ -2,6 +2,7 @@
 #include "host/scene/scene_parser.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -65,6 +66,21 @@ Mat3<double> rotation_from_y(const Vec3<double>& to) {
   return rotation_from_vector(axis * (std::atan2(s, c) / s));
 }
 
+// The absolute path of the existing file that `key` names (relative to the scene's folder unless
+// absolute), which must end in one of `extensions`; `what` names it in errors.
+std::string read_input_file(TableReader& t, const std::string& key, const fs::path& folder, const std::string& what,
+                            const std::vector<std::string>& extensions) {
+  const std::string file = t.required_string(key);
+  const fs::path path = fs::path(file).is_absolute() ? fs::path(file) : folder / file;
+  std::error_code error;
+  const fs::path absolute = fs::weakly_canonical(path, error);
+  if (error || !fs::is_regular_file(absolute)) t.fail(key, fmt::format("no {} file at {}", what, path.string()));
+  const std::string extension = absolute.extension().string();
+  if (std::find(extensions.begin(), extensions.end(), extension) == extensions.end())
+    t.fail(key, fmt::format("a {} file must end in {}", what, fmt::join(extensions, " or ")));
+  return absolute.string();
+}
+
 ShapeSpec read_shape(TableReader t, const std::vector<std::string>& types, const fs::path& folder) {
   ShapeSpec shape;
   const std::string type = t.required_choice("type", types);
@@ -90,14 +106,7 @@ ShapeSpec read_shape(TableReader t, const std::vector<std::string>& types, const
     shape.radius = t.required_number("radius", Range::positive());
   } else {
     shape.type = ShapeType::Mesh;
-    const std::string file = t.required_string("file");
-    fs::path path = fs::path(file).is_absolute() ? fs::path(file) : folder / file;
-    std::error_code error;
-    const fs::path absolute = fs::weakly_canonical(path, error);
-    if (error || !fs::is_regular_file(absolute)) t.fail("file", fmt::format("no mesh file at {}", path.string()));
-    const std::string extension = absolute.extension().string();
-    if (extension != ".obj" && extension != ".ply") t.fail("file", "a mesh must be an .obj or .ply file");
-    shape.mesh_file = absolute.string();
+    shape.mesh_file = read_input_file(t, "file", folder, "mesh", {".obj", ".ply"});
     shape.center = t.required_vec3("center");
     shape.mesh_extent = t.required_number("extent", Range::positive());
     shape.rotation = read_rotation(t);
@@ -180,8 +189,22 @@ void read_boundary(SceneReader& r, TableReader t) {
   t.finish();
 }
 
-MaterialSpecification read_material(TableReader t, const std::string& name) {
+MaterialSpecification read_material(TableReader t, const std::string& name, const fs::path& folder) {
   MaterialSpecification m;
+  if (t.has("neural")) {
+    // A learned law (romp learn-law) brings its own stress and plasticity; only the density is the scene's.
+    m.name = name;
+    m.model = MaterialModel::Neural;
+    m.neural_law = read_input_file(t, "neural", folder, "neural law", {".h5"});
+    m.density = t.number("density", m.density, Range::positive());
+    t.finish();
+    try {
+      neural_law_at_rest(m.neural_law);  // a scene error now rather than a failed run later
+    } catch (const Error& error) {
+      t.fail("neural", error.what());
+    }
+    return m;
+  }
   const std::string preset = t.choice("preset", "none", {"none", "jelly", "sand", "plasticine", "water"});
   if (preset != "none") m = nclaw_preset(*nclaw_material_named(preset));
   static const std::vector<std::pair<std::string, MaterialModel>> kModels = {
@@ -213,7 +236,7 @@ MaterialSpecification read_material(TableReader t, const std::string& name) {
 }
 
 void read_materials(SceneReader& r, TableReader t) {
-  for (const std::string& name : t.keys()) r.scene.materials.push_back(read_material(t.table(name), name));
+  for (const std::string& name : t.keys()) r.scene.materials.push_back(read_material(t.table(name), name, r.folder));
   if (r.scene.materials.empty()) t.fail("", "a scene needs at least one material, e.g. [materials.jelly]");
   t.finish();
 }

@@ -14,6 +14,7 @@
 #include "kernels/material/drucker_prager.h"
 #include "kernels/material/fixed_corotated.h"
 #include "kernels/material/hencky.h"
+#include "kernels/material/host_evaluated.h"
 #include "kernels/material/isotropic.h"
 #include "kernels/material/lame.h"
 #include "kernels/material/neo_hookean.h"
@@ -31,6 +32,9 @@ enum class MaterialModel : std::uint8_t {
   DruckerPrager,  // sand: HenckyStVK + Drucker-Prager return map
   VonMises,       // plasticine: HenckyStVK + von Mises return map
   WeaklyCompressibleFluid,
+  // A learned law whose stress and return map the host evaluates (host_evaluated.h); μ and λ are the
+  // law's linearisation at rest, for the CFL condition's wave speed only.
+  Neural,
 };
 
 template <class T>
@@ -70,6 +74,10 @@ struct MaterialParams {
   static constexpr MaterialParams weakly_compressible_fluid(T lambda) {
     return {MaterialModel::WeaklyCompressibleFluid, T(0), lambda, T(0), T(0), T(0), T(0)};
   }
+  // `at_rest`: the law's small-strain Lamé parameters (nn/nclaw/rest_stiffness.h).
+  static constexpr MaterialParams neural(Lame<T> at_rest) {
+    return {MaterialModel::Neural, at_rest.mu, at_rest.lambda, T(0), T(0), T(0), T(0)};
+  }
 };
 
 static_assert(std::is_trivially_copyable_v<MaterialParams<float>>);
@@ -91,6 +99,8 @@ ROMP_HD auto visit_model(const MaterialParams<T>& params, const Visitor& visitor
       return visitor(VonMises<T>{{params.mu, params.lambda}, params.yield_stress});
     case MaterialModel::WeaklyCompressibleFluid:
       return visitor(WeaklyCompressibleFluid<T>{params.lambda});
+    case MaterialModel::Neural:
+      return visitor(HostEvaluated<T>{});
   }
   // MaterialParams come from the factories above and the host's scene reader, which only write
   // enumerators: a value outside the enum is a programming error.

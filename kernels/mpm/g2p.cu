@@ -60,6 +60,14 @@ struct ProjectPlasticity {
   }
 };
 
+struct RecordNonFiniteDeformation {
+  Mat3Planes<const float> F;
+  Span<std::int64_t> failure;  // one slot
+  ROMP_HD void operator()(Index p) const {
+    if (!is_finite(F.load(p))) atomic_min(&failure[0], std::int64_t(p));
+  }
+};
+
 struct MaxSpeed {
   Vec3Planes<const float> v;
   Span<float> result;
@@ -75,6 +83,11 @@ void grid_to_particle(const Exec& exec, const ParticleView& particles, const Gri
 
 void project_plasticity(const Exec& exec, const ParticleView& particles, const StepParams& step) {
   for_each(exec, particles.count, ProjectPlasticity{particles, step});
+}
+
+void record_non_finite_deformation(const Exec& exec, const ParticleView& particles, const StepParams& step, Stage stage) {
+  for_each(exec, particles.count,
+           RecordNonFiniteDeformation{Mat3Planes<const float>(particles.F), step.first_failure.subspan(int(stage), 1)});
 }
 
 float max_particle_speed(const Exec& exec, const ParticleView& particles) {

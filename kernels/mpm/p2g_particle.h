@@ -24,7 +24,7 @@ struct P2GParticle {
     const Vec3<float> x = particles.x.load(p);
     const Mat3<float> F = particles.F.load(p);
     const material::MaterialParams<float>& params = step.materials[particles.material[p]];
-    const Mat3<float> P = material::first_piola(params, F);
+    const Mat3<float> P = particle_first_piola(step, params, p, F);
     if (!is_finite(P)) atomic_min(&step.first_failure[int(Stage::P2G)], std::int64_t(p));
     // MLS-MPM (Hu et al. 2018, Eq. 16 with D^-1 = 4/dx^2): the internal force enters as the affine
     // impulse -dt V0 D^-1 P F^T, applied through the same (x_i - x_p) moments as APIC's C.

@@ -60,7 +60,7 @@ struct ParticlesToCorners {
     const Index d = particles.domain[p];
     const material::MaterialParams<float>& params = step.materials[particles.material[p]];
     const Mat3<float> F = particles.F.load(p);
-    const Mat3<float> P = material::first_piola(params, F);
+    const Mat3<float> P = particle_first_piola(step, params, p, F);
     if (!is_finite(P)) atomic_min(&step.first_failure[int(Stage::P2G)], std::int64_t(p));
     atomic_max(&domains.stiffening[0], domain_stiffening(material::clamp_stretches(F, params.min_stretch)));
     const float mass = particles.mass[p];

@@ -10,6 +10,7 @@
 #include "kernels/material/material.h"
 #include "kernels/math/finite.h"
 #include "kernels/math/mat3.h"
+#include "kernels/math/mat3_planes.h"
 #include "kernels/mpm/collider.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
@@ -89,7 +90,18 @@ struct StepParams {
   Span<const RigidMotion> dirichlet;
   Span<const RegionLoad> loads;
   Span<std::int64_t> first_failure;       // kStageCount slots, kNoFailure until a stage sees a non-finite value
+  // The first Piola stress of every particle whose material is MaterialModel::Neural, in this
+  // substep's particle order (the host evaluates it after the sort); empty when no material is.
+  Mat3Planes<const float> host_stress;
 };
+
+// The first Piola stress of particle p at its F: the host's value for a neural material, the
+// model's P(F) for every other (and NaN for a neural one when the host supplied none, host_evaluated.h).
+ROMP_HD inline Mat3<float> particle_first_piola(const StepParams& step, const material::MaterialParams<float>& params,
+                                                Index p, const Mat3<float>& F) {
+  if (params.model == material::MaterialModel::Neural && step.host_stress.count() > 0) return step.host_stress.load(p);
+  return material::first_piola(params, F);
+}
 
 void particle_to_grid(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step);
 // The same P2G by grid block (p2g_tiled.cu): each block's particles add into a local tile of nodes
@@ -101,6 +113,10 @@ void update_grid(const Exec& exec, const GridView& grid, const StepParams& step)
 void grid_to_particle(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step);
 // The return map of each plastic material, on particles not in a Dirichlet group.
 void project_plasticity(const Exec& exec, const ParticleView& particles, const StepParams& step);
+
+// Records the first particle whose F is not finite as `stage`'s failure (after a stage that changed F
+// outside the kernels above, such as a host-evaluated plastic law).
+void record_non_finite_deformation(const Exec& exec, const ParticleView& particles, const StepParams& step, Stage stage);
 
 // x moved back to kDomainMarginCells inside the domain where it left that band, so its stencil stays
 // on the grid (walls normally stop particles and corners well before).

@@ -87,7 +87,8 @@ TEST(ReducedSim, ParticleDomainsOfTheReferenceAreIgnored) {
     test::set_plane_vector(with_domains.v, with_domains.count(), p, kInitialVelocity);
   ReducedSim sim(test::exec(), falling_config(), with_domains, test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
   for (int s = 0; s < kSteps; ++s) sim.substep(kDt);
-  EXPECT_EQ(largest_difference(sim.decode_positions(), reduced_positions({})), 0.0f);
+  // Equal up to the order in which threads' float atomics sum (seen under a loaded ctest: 3e-8 m).
+  EXPECT_LE(largest_difference(sim.decode_positions(), reduced_positions({})), 1e-6f);
 }
 
 TEST(ReducedSim, TenSamplesFollowTheSameTrajectoryAsEveryPoint) {
