@@ -44,8 +44,22 @@ romp::scene::ParameterValues parse_overrides(const std::vector<std::string>& set
   }
 }
 
-int check_scene(const std::string& path, const romp::scene::ParameterValues& overrides) {
-  const romp::scene::Scene scene = romp::scene::load_scene(path, overrides);
+// NAME=FILE assignments of --law.
+romp::scene::LearnedLaws parse_laws(const std::vector<std::string>& assignments) {
+  romp::scene::LearnedLaws laws;
+  for (const std::string& a : assignments) {
+    const std::size_t equals = a.find('=');
+    if (equals == 0 || equals == std::string::npos || equals + 1 == a.size())
+      throw CLI::ValidationError("--law", "expected MATERIAL=law.h5, got '" + a + "'");
+    if (!laws.emplace(a.substr(0, equals), a.substr(equals + 1)).second)
+      throw CLI::ValidationError("--law", "material '" + a.substr(0, equals) + "' is given twice");
+  }
+  return laws;
+}
+
+int check_scene(const std::string& path, const romp::scene::ParameterValues& overrides,
+                const romp::scene::LearnedLaws& laws) {
+  const romp::scene::Scene scene = romp::scene::load_scene(path, overrides, laws);
   const romp::scene::SceneSetup setup = romp::scene::build_scene(scene);
   fmt::print("{}", scene.resolved_text);
   std::string counts;
@@ -59,8 +73,8 @@ int check_scene(const std::string& path, const romp::scene::ParameterValues& ove
 }
 
 int run_scene(romp::DeviceChoice choice, int threads, const std::string& path,
-              const romp::scene::ParameterValues& overrides, const romp::run::RunOptions& options,
-              bool deterministic) {
+              const romp::scene::ParameterValues& overrides, const romp::scene::LearnedLaws& laws,
+              const romp::run::RunOptions& options, bool deterministic) {
   if (deterministic) {
     // The CPU path with one thread sums every grid node's contributions in one fixed order.
     if (choice == romp::DeviceChoice::Cuda)
@@ -68,7 +82,7 @@ int run_scene(romp::DeviceChoice choice, int threads, const std::string& path,
     choice = romp::DeviceChoice::Cpu;
     threads = 1;
   }
-  const romp::scene::Scene scene = romp::scene::load_scene(path, overrides);
+  const romp::scene::Scene scene = romp::scene::load_scene(path, overrides, laws);
   const romp::Exec exec = romp::select_backend(choice, threads);
   const romp::run::RunResult r = romp::run::run_scene(exec, scene, options);
   if (r.interrupted) {
@@ -87,12 +101,14 @@ int run_scene(romp::DeviceChoice choice, int threads, const std::string& path,
 int compare(const std::string& run, const std::string& reference, bool per_frame) {
   const romp::run::PositionError error = romp::run::compare_snapshots(run, reference);
   if (per_frame) {
-    fmt::print("{:>6}  {:>12}  {:>16}\n", "frame", "time (s)", "position error %");
+    fmt::print("{:>6}  {:>12}  {:>16}  {:>16}\n", "frame", "time (s)", "position error %", "MSE (m^2)");
     for (std::size_t k = 0; k < error.frame_percent.size(); ++k)
-      fmt::print("{:>6}  {:>12.6g}  {:>16.6g}\n", k, error.frame_times[k], error.frame_percent[k]);
+      fmt::print("{:>6}  {:>12.6g}  {:>16.6g}  {:>16.6g}\n", k, error.frame_times[k], error.frame_percent[k],
+                 error.frame_mse[k]);
   }
-  fmt::print("{} against {}: accumulated position error {:.6g}% over {} frames of {} material points\n", run,
-             reference, error.percent, error.frame_percent.size(), error.particles);
+  fmt::print("{} against {}: accumulated position error {:.6g}% over {} frames of {} material points; "
+             "mean position MSE over frames after the first {:.6g} m^2\n",
+             run, reference, error.percent, error.frame_percent.size(), error.particles, error.mean_mse);
   return 0;
 }
 
@@ -127,6 +143,9 @@ int main(int argc, char** argv) {
   CLI::App* check = app.add_subcommand("check", "Validate a scene and print it resolved, every default filled in");
   check->add_option("scene", scene_path, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
   check->add_option("--set", sets, "Override a declared parameter: name=value (repeatable)");
+  std::vector<std::string> law_assignments;
+  const char* law_help = "Run material NAME with a learned law instead: NAME=law.h5 (repeatable)";
+  check->add_option("--law", law_assignments, law_help);
 
   CLI::App* run = app.add_subcommand("run", "Run a scene and write its snapshots");
   romp::run::RunOptions run_options;
@@ -139,6 +158,7 @@ int main(int argc, char** argv) {
   run->add_flag("--ply", run_options.ply, "Also write a PLY point cloud per frame");
   run->add_flag("!--no-progress", run_options.progress, "No progress bar");
   run->add_option("--set", sets, "Override a declared parameter: name=value (repeatable)");
+  run->add_option("--law", law_assignments, law_help);
   romp::run::ReducedRunOptions reduced_options;
   romp::run::add_reduced_run_options(*run, reduced_options);
 
@@ -149,6 +169,7 @@ int main(int argc, char** argv) {
   sweep_command->add_option("-o,--output", sweep_options.output_dir, "Output folder")->required();
   sweep_command->add_option("-j,--jobs", sweep_options.jobs, "Members run at once on this machine")
       ->check(CLI::PositiveNumber);
+  sweep_command->add_option("--law", law_assignments, law_help);
 
   CLI::App* compare_command =
       app.add_subcommand("compare", "Position error (%) of a run against a reference run of the same scene (ROM paper)");
@@ -182,17 +203,19 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("compare")) return compare(compared_run, reference_run, per_frame);
     if (app.got_subcommand("sweep")) {
       sweep_options.run_arguments = {"--device", device, "--threads", std::to_string(threads), "--log-level", log_level};
+      sweep_options.laws = parse_laws(law_assignments);
       return sweep(scene_path, sweep_options);
     }
     if (learn_law->parsed()) return romp::learn_law(choice, threads, learn_law_options);
     if (app.got_subcommand("train-rom")) return romp::train_rom_command(choice, threads, train_rom_options);
     const romp::scene::ParameterValues overrides = parse_overrides(sets);
-    if (app.got_subcommand("check")) return check_scene(scene_path, overrides);
+    const romp::scene::LearnedLaws laws = parse_laws(law_assignments);
+    if (app.got_subcommand("check")) return check_scene(scene_path, overrides, laws);
     if (!reduced_options.model.empty())
       run_options.make_reduced = [&reduced_options](const romp::Exec& exec, const romp::scene::SceneSetup& setup) {
         return romp::run::make_reduced_simulation(reduced_options, exec, setup);
       };
-    return run_scene(choice, threads, scene_path, overrides, run_options, deterministic);
+    return run_scene(choice, threads, scene_path, overrides, laws, run_options, deterministic);
   } catch (const CLI::ParseError& error) {
     return app.exit(error) == 0 ? 0 : kExitBadArguments;
   } catch (const romp::scene::SceneError& error) {

@@ -30,11 +30,17 @@ void PositionErrorAccumulator::add_frame(double t, const std::vector<float>& x, 
   partial_.particles = std::int64_t(x.size() / 3);
   partial_.frame_times.push_back(t);
   partial_.frame_percent.push_back(100.0 * std::sqrt(frame_error / frame_reference));
+  partial_.frame_mse.push_back(frame_error / double(x.size()));
 }
 
 PositionError PositionErrorAccumulator::result() const {
   PositionError result = partial_;
   result.percent = 100.0 * std::sqrt(error_sum_ / reference_sum_);
+  const std::size_t frames = result.frame_mse.size();
+  if (frames > 1) {
+    for (std::size_t k = 1; k < frames; ++k) result.mean_mse += result.frame_mse[k];
+    result.mean_mse /= double(frames - 1);
+  }
   return result;
 }
 

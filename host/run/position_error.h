@@ -1,7 +1,10 @@
 // The ROM paper's accuracy measure (Sec. 5): the accumulated position error of a run against a
 // reference run of the same scene,
 //   error (%) = 100 √(Σ_{n,p} ‖x_run − x_ref‖²) / √(Σ_{n,p} ‖x_ref‖²),
-// summed over every frame n and material point p, and the same ratio per frame.
+// summed over every frame n and material point p, and the same ratio per frame. Beside it, the
+// neural-law paper's metric (Ma et al. 2023, Sec. 4.1): the mean over frames after the first of the
+// position MSE (m², over material points and axes); on snapshots written every 5th substep, as the
+// scenes of scenes/nclaw/generalization are, that is the paper's "average MSE every 5 frames".
 #pragma once
 
 #include <cstdint>
@@ -14,6 +17,8 @@ struct PositionError {
   double percent = 0.0;                   // over all frames
   std::vector<double> frame_percent;      // per frame
   std::vector<double> frame_times;        // s
+  std::vector<double> frame_mse;          // per frame: mean over points and axes of (x_run − x_ref)², m²
+  double mean_mse = 0.0;                  // over every frame but the first (both start from the same state)
   std::int64_t particles = 0;
 };
 

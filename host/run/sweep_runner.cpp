@@ -118,7 +118,7 @@ pid_t spawn(const std::string& executable, const std::vector<std::string>& argum
 std::string member_stem(std::int64_t index) { return fmt::format("member_{:06}", index); }
 
 SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& options) {
-  const scene::Scene base = scene::load_scene(scene_path);
+  const scene::Scene base = scene::load_scene(scene_path, {}, options.laws);
   if (!base.sweep) throw scene::SceneError(fmt::format("{}: has no [sweep] table to run", scene_path));
   const std::vector<scene::SweepMember> members = scene::sweep_members(*base.sweep);
   const ProcessRank rank = detect_process_rank();
@@ -131,7 +131,7 @@ SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& option
   std::map<std::int64_t, std::string> member_scenes;
   for (const scene::SweepMember& member : members) {
     try {
-      member_scenes[member.index] = scene::load_scene(scene_path, member.values).resolved_text;
+      member_scenes[member.index] = scene::load_scene(scene_path, member.values, options.laws).resolved_text;
     } catch (const scene::SceneError& error) {
       throw scene::SceneError(fmt::format("sweep member {}: {}", member.index, error.what()));
     }

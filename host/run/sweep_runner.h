@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "host/scene/scene_parser.h"
+
 namespace romp::run {
 
 struct SweepOptions {
@@ -13,6 +15,7 @@ struct SweepOptions {
   int jobs = 1;                  // child processes at once on this machine
   std::vector<std::string> run_arguments;  // global options passed to each child (device, threads, ...)
   std::string executable;        // the romp binary for the children (default: this process's)
+  scene::LearnedLaws laws;       // materials every member runs with a learned law instead (scene::parse_scene)
 };
 
 struct SweepSummary {

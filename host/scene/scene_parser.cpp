@@ -377,10 +377,31 @@ ParameterValues read_parameters(SceneReader& r, TableReader t, const ParameterVa
   return values;
 }
 
+// `document` with each of `laws`' materials replaced by a neural one (parse_scene).
+toml::table with_learned_laws(toml::table document, const std::string& file, const LearnedLaws& laws) {
+  toml::table* materials = document["materials"].as_table();
+  for (const auto& [name, law] : laws) {
+    toml::table* material = materials ? (*materials)[name].as_table() : nullptr;
+    if (!material) {
+      std::vector<std::string> names;
+      if (materials)
+        for (const auto& entry : *materials) names.emplace_back(entry.first.str());
+      throw SceneError(fmt::format("{}: a learned law replaces material '{}', which the scene lacks (it has: {})", file,
+                                   name, fmt::join(names, ", ")));
+    }
+    toml::table learned;
+    learned.insert("neural", fs::absolute(law).string());
+    if (const toml::node* density = material->get("density")) learned.insert("density", *density);
+    materials->insert_or_assign(name, std::move(learned));
+  }
+  return document;
+}
+
 }  // namespace
 
-Scene parse_scene(const std::string& text, const std::string& file, const ParameterValues& overrides) {
-  const toml::table document = parse_toml(text, file);
+Scene parse_scene(const std::string& text, const std::string& file, const ParameterValues& overrides,
+                  const LearnedLaws& laws) {
+  const toml::table document = with_learned_laws(parse_toml(text, file), file, laws);
   SceneReader r;
   r.context.file = file;
   r.folder = fs::absolute(fs::path(file)).parent_path();
@@ -417,12 +438,12 @@ Scene parse_scene(const std::string& text, const std::string& file, const Parame
   return std::move(r.scene);
 }
 
-Scene load_scene(const std::string& path, const ParameterValues& overrides) {
+Scene load_scene(const std::string& path, const ParameterValues& overrides, const LearnedLaws& laws) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(fmt::format("{}: cannot open the scene file", path));
   std::ostringstream text;
   text << in.rdbuf();
-  return parse_scene(text.str(), path, overrides);
+  return parse_scene(text.str(), path, overrides, laws);
 }
 
 }  // namespace romp::scene

@@ -175,6 +175,28 @@ TEST(NeuralMaterials, SceneMaterialCarriesTheLawAndItsRestStiffness) {
   EXPECT_NEAR(material.params.lambda + 2.0f * material.params.mu, 2e5f, 2e3f);
 }
 
+// `romp run --law body=law.h5`: the analytic material of a scene replaced by a learned law, its
+// density kept, and the resolved scene (stored in every snapshot) saying so.
+TEST(NeuralMaterials, ALearnedLawReplacesAnAnalyticMaterialByName) {
+  const test::ScratchFolder folder;
+  const std::string law = write_law(folder, "law.h5", scaled_laws(4, 2e5));
+  const std::string text = dropped_cube_scene("preset = \"jelly\"\ndensity = 800.0");
+  const scene::Scene scene = scene::parse_scene(text, folder.file("cube.toml"), {}, {{"body", law}});
+  ASSERT_EQ(scene.materials.size(), 1u);
+  EXPECT_EQ(scene.materials[0].model, material::MaterialModel::Neural);
+  EXPECT_EQ(scene.materials[0].neural_law, law);
+  EXPECT_EQ(scene.materials[0].density, 800.0);
+  EXPECT_NE(scene.resolved_text.find("neural = \"" + law + "\""), std::string::npos) << scene.resolved_text;
+  try {
+    scene::parse_scene(text, folder.file("cube.toml"), {}, {{"jelly", law}});
+    FAIL() << "accepted";
+  } catch (const scene::SceneError& error) {
+    EXPECT_NE(std::string(error.what()).find("material 'jelly', which the scene lacks (it has: body)"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(NeuralMaterials, ALawThatGivesWayUnderCompressionIsASceneError) {
   const test::ScratchFolder folder;
   write_law(folder, "soft.h5", scaled_laws(4, -1e5));

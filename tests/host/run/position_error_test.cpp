@@ -1,5 +1,5 @@
-// The ROM paper's position error between two snapshot files: its value on known offsets, and the
-// refusal to compare runs of different bodies or frame times.
+// The ROM paper's position error and the neural-law paper's mean MSE between two snapshot files:
+// their values on known offsets, and the refusal to compare runs of different bodies or frame times.
 #include "host/run/position_error.h"
 
 #include <gtest/gtest.h>
@@ -54,6 +54,19 @@ TEST(AccumulatedPositionError, IsTheRootOfTheSummedSquaredOffsetsOverTheSummedSq
   EXPECT_NEAR(error.percent, 100.0 * std::sqrt(0.5 / 50.0), 1e-9);
   EXPECT_EQ(error.particles, 2);
   EXPECT_EQ(compare_snapshots(reference, reference).percent, 0.0);
+}
+
+TEST(MeanPositionMse, IsTheMeanOverFramesAfterTheFirstOfEachFramesMse) {
+  const test::ScratchFolder folder;
+  const std::string reference = write_run(folder, "reference.h5", kX, 0.0f, {0.0, 0.1, 0.2});
+  const std::string run = write_run(folder, "run.h5", kX, 0.5f, {0.0, 0.1, 0.2});
+  const PositionError error = compare_snapshots(run, reference);
+  // Frame k is off by 0.5 k along x at both points: MSE over 2 points × 3 axes = 2 (0.5 k)² / 6.
+  ASSERT_EQ(error.frame_mse.size(), 3u);
+  EXPECT_EQ(error.frame_mse[0], 0.0);
+  EXPECT_NEAR(error.frame_mse[1], 0.25 / 3.0, 1e-12);
+  EXPECT_NEAR(error.frame_mse[2], 1.0 / 3.0, 1e-12);
+  EXPECT_NEAR(error.mean_mse, (0.25 / 3.0 + 1.0 / 3.0) / 2.0, 1e-12);
 }
 
 TEST(AccumulatedPositionError, RunsOfOtherBodiesOrFrameTimesAreNotCompared) {
