@@ -1,12 +1,15 @@
 // learn-law: ground truth → LawTrainer epochs with checkpoints → law file.
 #include "host/learn_law_command.h"
 
+#include <fmt/format.h>
 #include <omp.h>
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
 
+#include "host/io/atomic_file.h"
 #include "host/nclaw/ground_truth.h"
+#include "host/nclaw/oracles.h"
 #include "kernels/core/error.h"
 #include "nn/nclaw/evaluation.h"
 #include "nn/nclaw/law_file.h"
@@ -30,10 +33,59 @@ CLI::App* add_learn_law_command(CLI::App& app, LearnLawOptions& options) {
       ->check(CLI::NonNegativeNumber);
   command->add_option("--seed", options.seed, "Seed of the initial weights")->capture_default_str();
   command->add_flag("--resume", options.resume, "Continue from <output>.checkpoint");
+  command
+      ->add_option("--method", options.method,
+                   "motion: learn from the trajectory's motion; labeled: fit the laws to the ground truth's "
+                   "(F, P) and plastic pairs (oracle); system-identification: fit E and nu of fixed corotated "
+                   "through the same simulation (oracle; -o names a .toml material table)")
+      ->check(CLI::IsMember({"motion", "labeled", "system-identification"}))
+      ->capture_default_str();
+  command->add_option("--pair-stride", options.pair_stride, "labeled: pairs from every this many frames")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   return command;
 }
 
+namespace {
+
+// The oracles: fits that know the ground truth's pairs or its model (host/nclaw/oracles.h).
+int run_oracle(const nclaw::GroundTruth& truth, const LearnLawOptions& options) {
+  if (options.method == "labeled") {
+    nn::SupervisedOptions supervised;
+    supervised.epochs = options.epochs;
+    const nn::LawFile fitted = nclaw::fit_labeled_oracle(truth, options.trajectory, supervised, options.pair_stride,
+                                                         options.seed);
+    nn::write_law_file(options.output, fitted.laws, fitted.training);
+    spdlog::info("wrote {} (labeled oracle, {} epochs: relative stress error {:.3g} -> {:.3g}); reconstruction "
+                 "error {:.4g} m^2",
+                 options.output, options.epochs, fitted.training.loss.front(), fitted.training.loss.back(),
+                 fitted.training.reconstruction_error);
+    return 0;
+  }
+  nn::SystemIdentificationOptions identification;
+  identification.epochs = options.epochs;
+  identification.steps = options.steps;
+  const nclaw::IdentifiedMaterial found = nclaw::identify_material(truth, identification);
+  io::write_file_atomically(
+      options.output,
+      fmt::format("# romp learn-law --method system-identification {}: fixed corotated fitted through the "
+                  "differentiable\n# simulation in {} epochs; reconstruction error {:.6g} m^2 (mean position MSE "
+                  "every {} frames of a free rollout)\n[materials.identified]\nmodel = \"fixed-corotated\"\n"
+                  "density = {}\nyoungs_modulus = {:.8g}\npoissons_ratio = {:.8g}\n",
+                  options.trajectory, options.epochs, found.reconstruction_error, nn::kEvaluationFrameStride,
+                  truth.materials.front().density, found.youngs_modulus, found.poissons_ratio));
+  spdlog::info("wrote {}: E = {:.6g} Pa, nu = {:.6g}; reconstruction error {:.4g} m^2", options.output,
+               found.youngs_modulus, found.poissons_ratio, found.reconstruction_error);
+  return 0;
+}
+
+}  // namespace
+
 int learn_law(DeviceChoice choice, int threads, const LearnLawOptions& options) {
+  const std::string extension = options.method == "system-identification" ? ".toml" : ".h5";
+  if (std::filesystem::path(options.output).extension() != extension)
+    throw CLI::ValidationError("--output", "learn-law --method " + options.method + " writes a " + extension +
+                                               " file, got " + options.output);
   if (threads > 0) {
     // The romp kernels behind the autograd functions and LibTorch's own ops share the budget.
     omp_set_num_threads(threads);
@@ -43,6 +95,8 @@ int learn_law(DeviceChoice choice, int threads, const LearnLawOptions& options) 
   if (exec.is_cuda() && !torch::cuda::is_available())
     throw Error("learn-law: the CUDA backend was selected but this LibTorch has no CUDA device; use --device cpu");
   const nclaw::GroundTruth truth = nclaw::read_ground_truth(options.trajectory, options.steps);
+  // The oracles are comparison points, run where the trajectory is read: on the CPU.
+  if (options.method != "motion") return run_oracle(truth, options);
   const torch::Device device = nn::torch_device(exec);
   nn::TrainingOptions training;
   training.epochs = options.epochs;

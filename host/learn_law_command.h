@@ -18,6 +18,10 @@ struct LearnLawOptions {
   int64_t checkpoint_every = 0;
   uint64_t seed = 0;
   bool resume = false;
+  // "motion" (the method), or an oracle of host/nclaw/oracles.h: "labeled" writes a law file,
+  // "system-identification" a scene material table (.toml) with the identified E and ν.
+  std::string method = "motion";
+  int64_t pair_stride = 10;  // labeled: constitutive pairs from every this many frames
 };
 
 // Declares the subcommand and its options on `app`.

@@ -60,7 +60,9 @@ GroundTruth read_ground_truth(const std::string& path, int64_t last_frame) {
                             reader.frame_count()));
 
   GroundTruth truth;
-  truth.config = differentiable_config(scene::parse_scene(reader.header().scene, path), label);
+  const scene::Scene scene = scene::parse_scene(reader.header().scene, path);
+  truth.config = differentiable_config(scene, label);
+  truth.materials = scene.materials;
   std::vector<io::FrameData> data;
   data.reserve(size_t(frames));
   for (int64_t k = 0; k < frames; ++k) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "host/scene/scene.h"
 #include "nn/diffmpm/mpm_step.h"
@@ -12,6 +13,7 @@ namespace romp::nclaw {
 struct GroundTruth {
   nn::DiffMpmConfig config;     // the snapshot's scene: grid, dt, gravity, walls
   nn::Trajectory trajectory;    // float32 on the CPU, frames 0 .. last
+  std::vector<scene::MaterialSpecification> materials;  // the scene's, for the oracles that know them
 };
 
 // The differentiable step's constants for `scene`: grid, dt, gravity, walls. The scene must be one
