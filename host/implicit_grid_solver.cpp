@@ -46,8 +46,9 @@ ImplicitGridSolver::ImplicitGridSolver(Backend backend, ImplicitSolverConfig con
 
 void ImplicitGridSolver::reserve(Index particles, Index unknowns) {
   ensure_size(stiffness_, backend_, particles);
-  for (DeviceBuffer<float>* vector : {&x_, &r_, &z_, &p_, &q_, &free_, &inverse_diagonal_})
+  for (DeviceBuffer<float>* vector : {&x_, &r_, &z_, &p_, &q_, &inverse_diagonal_})
     ensure_size(*vector, backend_, unknowns);
+  ensure_size(projector_, backend_, 3 * unknowns);  // 9 planes of nodes
 }
 
 ImplicitSolveReport ImplicitGridSolver::solve(const Exec& exec, const mpm::ParticleView& particles,
@@ -57,13 +58,13 @@ ImplicitSolveReport ImplicitGridSolver::solve(const Exec& exec, const mpm::Parti
   reserve(particles.count, unknowns);
   const Span<float> x = x_.span().subspan(0, unknowns), r = r_.span().subspan(0, unknowns),
                     z = z_.span().subspan(0, unknowns), p = p_.span().subspan(0, unknowns),
-                    q = q_.span().subspan(0, unknowns), free = free_.span().subspan(0, unknowns),
-                    inverse_diagonal = inverse_diagonal_.span().subspan(0, unknowns);
+                    q = q_.span().subspan(0, unknowns), inverse_diagonal = inverse_diagonal_.span().subspan(0, unknowns);
+  const Mat3Planes<float> projector(projector_.data(), unknowns / 3);
   const Span<material::PrincipalStiffness<float>> stiffness = stiffness_.span().subspan(0, particles.count);
 
   mpm::linearise_particles(exec, particles, step, stiffness);
-  mpm::find_free_components(exec, grid, step, free);
-  const mpm::ImplicitSystem system{particles, grid, step, stiffness, free};
+  mpm::find_projectors(exec, grid, step, projector);
+  const mpm::ImplicitSystem system{particles, grid, step, stiffness, projector};
   mpm::jacobi_inverse_diagonal(exec, system, inverse_diagonal);
 
   // x₀ = v*, r₀ = S M v* − A v*.
@@ -76,7 +77,7 @@ ImplicitSolveReport ImplicitGridSolver::solve(const Exec& exec, const mpm::Parti
   double residual_norm = std::sqrt(dot_(exec, r, r));
   const double reference = std::max(momentum_norm, residual_norm);
   const double threshold = double(config_.tolerance) * reference;
-  multiply(exec, inverse_diagonal, r, z);
+  mpm::apply_preconditioner(exec, system, inverse_diagonal, r, z);
   memory::copy(p.data(), exec.backend, z.data(), exec.backend, std::size_t(unknowns) * sizeof(float), exec.stream);
   double rz = dot_(exec, r, z);
   std::int32_t iterations = 0;
@@ -84,7 +85,7 @@ ImplicitSolveReport ImplicitGridSolver::solve(const Exec& exec, const mpm::Parti
   while (residual_norm > threshold && iterations < config_.max_iterations) {
     mpm::apply_implicit_operator(exec, system, p, q);
     const double pq = dot_(exec, p, q);
-    // S A S is positive definite on the free components: only rounding or a non-finite state gets here.
+    // S A S is positive definite on the range of S: only rounding or a non-finite state gets here.
     if (!(pq > 0.0) || !std::isfinite(pq)) {
       broke_down = true;
       break;
@@ -92,7 +93,7 @@ ImplicitSolveReport ImplicitGridSolver::solve(const Exec& exec, const mpm::Parti
     const double alpha = rz / pq;
     axpy(exec, float(alpha), p, x);
     axpy(exec, float(-alpha), q, r);
-    multiply(exec, inverse_diagonal, r, z);
+    mpm::apply_preconditioner(exec, system, inverse_diagonal, r, z);
     const double rz_next = dot_(exec, r, z);
     xpby(exec, z, float(rz_next / rz), p);
     rz = rz_next;

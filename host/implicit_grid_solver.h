@@ -53,7 +53,7 @@ class ImplicitGridSolver {
   DeviceBuffer<material::PrincipalStiffness<float>> stiffness_;
   // 3 planes of active nodes each: iterate, residual, preconditioned residual, search direction,
   // operator times direction, free-component mask and inverse diagonal.
-  DeviceBuffer<float> x_, r_, z_, p_, q_, free_, inverse_diagonal_;
+  DeviceBuffer<float> x_, r_, z_, p_, q_, inverse_diagonal_, projector_;
   DotProduct dot_;
   ImplicitSolveTotals totals_;
 };

@@ -23,12 +23,6 @@ struct Xpby {
   ROMP_HD void operator()(Index k) const { y[k] = x[k] + beta * y[k]; }
 };
 
-struct Multiply {
-  Span<const float> d, x;
-  Span<float> y;
-  ROMP_HD void operator()(Index k) const { y[k] = d[k] * x[k]; }
-};
-
 struct DotLanes {
   Span<const float> a, b;
   Span<double> lanes;
@@ -54,12 +48,6 @@ void axpy(const Exec& exec, float alpha, Span<const float> x, Span<float> y) {
 void xpby(const Exec& exec, Span<const float> x, float beta, Span<float> y) {
   check_sizes(x.size(), y.size(), "xpby");
   for_each(exec, y.size(), Xpby{x, beta, y});
-}
-
-void multiply(const Exec& exec, Span<const float> d, Span<const float> x, Span<float> y) {
-  check_sizes(d.size(), x.size(), "multiply");
-  check_sizes(x.size(), y.size(), "multiply");
-  for_each(exec, y.size(), Multiply{d, x, y});
 }
 
 double DotProduct::operator()(const Exec& exec, Span<const float> a, Span<const float> b) {

@@ -14,8 +14,6 @@ namespace romp {
 void axpy(const Exec& exec, float alpha, Span<const float> x, Span<float> y);
 // y ← x + β y (CG's new search direction).
 void xpby(const Exec& exec, Span<const float> x, float beta, Span<float> y);
-// y ← d ∘ x, element-wise (a diagonal preconditioner).
-void multiply(const Exec& exec, Span<const float> d, Span<const float> x, Span<float> y);
 
 // Σₖ aₖ bₖ, accumulated in double. Lane l of kLanes sums the elements k ≡ l (mod kLanes) in order
 // (consecutive lanes read consecutive addresses, so GPU loads coalesce), and the host adds the lanes

@@ -58,45 +58,59 @@ struct LineariseParticles {
   }
 };
 
-// A slip or separating collider holds the velocity components whose share of its normal exceeds
-// this (all of an axis-aligned normal's, and no more; up to all three of an oblique one's).
-constexpr float kNormalShare = 0.1f;
+// The directions a node's velocity is held along, as an orthonormal basis, and the projector onto
+// the rest.
+struct HeldDirections {
+  Vec3<float> basis[3];
+  int count = 0;
 
-struct FindFreeComponents {
+  // Adds unit direction d unless it (nearly) lies in the held span already.
+  ROMP_HD void hold(Vec3<float> d) {
+    for (int i = 0; i < count; ++i) d = d - dot(basis[i], d) * basis[i];
+    const float length = norm(d);
+    if (count < 3 && length > 1e-3f) basis[count++] = (1.0f / length) * d;
+  }
+  ROMP_HD void hold_all() {
+    for (int a = 0; a < 3; ++a) basis[a] = Vec3<float>::unit(a);
+    count = 3;
+  }
+  // S = I − Σ q qᵀ.
+  ROMP_HD Mat3<float> projector() const {
+    Mat3<float> S = Mat3<float>::identity();
+    for (int i = 0; i < count; ++i) S = S - Mat3<float>::outer(basis[i], basis[i]);
+    return S;
+  }
+};
+
+struct FindProjectors {
   GridView grid;
   StepParams step;
-  Span<float> free;
-  Index nodes;
+  Mat3Planes<float> projector;
 
   ROMP_HD void operator()(Index n) const {
-    Vec3<float> unknown = Vec3<float>::zero();
+    HeldDirections held;
     if (grid.mass[n] > 0.0f) {
       const GridNode node(grid, n);
       const Vec3<float> v = grid.velocity.load(n);
-      unknown = Vec3<float>::constant(1.0f);
       for (Index c = 0; c < step.colliders.size(); ++c) {
         const ColliderState& collider = step.colliders[c];
         const SignedDistance sd = signed_distance(collider, node.position);
         if (sd.distance >= 0.0f) continue;
-        // Sticky: the whole node. Slip and separating: the components that carry the normal, where
-        // v* does not move away from the collider (a separating node is free, as at a wall). The
-        // tangential rest stays an unknown: held, it would be integrated explicitly at an implicit
-        // step, which is unstable (ImplicitStep.CubeUnderASlipPlateStaysStable goes non-finite when they are held).
         const bool separating = dot(v - collider.velocity_at(node.position), sd.normal) > 0.0f;
-        for (int a = 0; a < 3; ++a)
-          if (collider.contact == ContactType::Sticky ||
-              (!(collider.contact == ContactType::Separate && separating) && math::abs(sd.normal[a]) > kNormalShare))
-            unknown[a] = 0.0f;
+        if (collider.contact == ContactType::Sticky) held.hold_all();
+        else if (!(collider.contact == ContactType::Separate && separating)) held.hold(sd.normal);
       }
       for (int a = 0; a < 3; ++a) {
         const bool low = node.on_low_wall(step, a), high = node.on_high_wall(step, a);
         if (!(low || high)) continue;
-        if (step.wall_contact == ContactType::Sticky) unknown = Vec3<float>::zero();
+        if (step.wall_contact == ContactType::Sticky) held.hold_all();
         // Held unless v* moves away from the wall (inward normal +e_a on the low face, −e_a on the high one).
-        if ((low && v[a] <= 0.0f) || (high && v[a] >= 0.0f)) unknown[a] = 0.0f;
+        if ((low && v[a] <= 0.0f) || (high && v[a] >= 0.0f)) held.hold(Vec3<float>::unit(a));
       }
+    } else {
+      held.hold_all();
     }
-    node_vectors(free, nodes).store(n, unknown);
+    projector.store(n, held.projector());
   }
 };
 
@@ -136,16 +150,28 @@ struct StiffnessDiagonal {
 
 struct InvertDiagonal {
   GridView grid;
-  Span<const float> free;
-  Span<float> diagonal;  // Δt² K_ii on entry, the preconditioner on exit
+  Span<float> diagonal;  // Δt² K_ii on entry, its inverse with the mass on exit
   Index nodes;
 
   ROMP_HD void operator()(Index n) const {
     for (int a = 0; a < 3; ++a) {
       const Index k = a * nodes + n;
-      // Free components have mass > 0 and K_ii ≥ 0, so the sum is > 0.
-      diagonal[k] = free[k] > 0.0f ? 1.0f / (grid.mass[n] + diagonal[k]) : 0.0f;
+      // Mass > 0 and K_ii ≥ 0, so the sum is > 0.
+      diagonal[k] = grid.mass[n] > 0.0f ? 1.0f / (grid.mass[n] + diagonal[k]) : 0.0f;
     }
+  }
+};
+
+struct ApplyPreconditioner {
+  Mat3Planes<const float> projector;
+  Span<const float> inverse_diagonal, r;
+  Span<float> z;
+  Index nodes;
+
+  ROMP_HD void operator()(Index n) const {
+    const Vec3<float> d = node_vectors(inverse_diagonal, nodes).load(n), residual = node_vectors(r, nodes).load(n);
+    node_vectors(z, nodes).store(n, projector.load(n) * Vec3<float>(d[0] * residual[0], d[1] * residual[1],
+                                                                    d[2] * residual[2]));
   }
 };
 
@@ -173,15 +199,14 @@ struct ApplyStiffness {
 
 struct FinishOperator {
   GridView grid;
-  Span<const float> free, x;
+  Mat3Planes<const float> projector;
+  Span<const float> x;
   Span<float> Ax;  // Δt² K x on entry (zero for the mass alone)
   Index nodes;
 
   ROMP_HD void operator()(Index n) const {
-    for (int a = 0; a < 3; ++a) {
-      const Index k = a * nodes + n;
-      Ax[k] = free[k] * (grid.mass[n] * x[k] + Ax[k]);
-    }
+    const Vec3Planes<float> out = node_vectors(Ax, nodes);
+    out.store(n, projector.load(n) * (grid.mass[n] * node_vectors(x, nodes).load(n) + out.load(n)));
   }
 };
 
@@ -209,7 +234,7 @@ void apply_operator(const Exec& exec, const ImplicitSystem& system, Span<const f
   memory::fill_zero(out.data(), exec.backend, out.size() * sizeof(float), exec.stream);
   if (with_stiffness)
     for_each(exec, system.particles.count, StiffnessPass<ApplyStiffness>{system, ApplyStiffness{x, out, nodes}});
-  for_each(exec, nodes, FinishOperator{system.grid, system.free, x, out, nodes});
+  for_each(exec, nodes, FinishOperator{system.grid, system.projector, x, out, nodes});
 }
 
 }  // namespace
@@ -220,10 +245,10 @@ void linearise_particles(const Exec& exec, const ParticleView& particles, const 
   for_each(exec, particles.count, LineariseParticles{particles, step, stiffness});
 }
 
-void find_free_components(const Exec& exec, const GridView& grid, const StepParams& step, Span<float> free) {
-  check_node_vector(free, grid, "free");
+void find_projectors(const Exec& exec, const GridView& grid, const StepParams& step, Mat3Planes<float> projector) {
   const Index nodes = grid.blocks * kNodesPerBlock;
-  for_each(exec, nodes, FindFreeComponents{grid, step, free, nodes});
+  ROMP_CHECK(projector.count() == nodes, "find_projectors: one projector per active grid node");
+  for_each(exec, nodes, FindProjectors{grid, step, projector});
 }
 
 void jacobi_inverse_diagonal(const Exec& exec, const ImplicitSystem& system, Span<float> inverse_diagonal) {
@@ -232,7 +257,15 @@ void jacobi_inverse_diagonal(const Exec& exec, const ImplicitSystem& system, Spa
   memory::fill_zero(inverse_diagonal.data(), exec.backend, inverse_diagonal.size() * sizeof(float), exec.stream);
   for_each(exec, system.particles.count,
            StiffnessPass<StiffnessDiagonal>{system, StiffnessDiagonal{inverse_diagonal, nodes}});
-  for_each(exec, nodes, InvertDiagonal{system.grid, system.free, inverse_diagonal, nodes});
+  for_each(exec, nodes, InvertDiagonal{system.grid, inverse_diagonal, nodes});
+}
+
+void apply_preconditioner(const Exec& exec, const ImplicitSystem& system, Span<const float> inverse_diagonal,
+                          Span<const float> r, Span<float> z) {
+  for (const Span<const float> v : {inverse_diagonal, r, Span<const float>(z)})
+    check_node_vector(v, system.grid, "a preconditioner vector");
+  const Index nodes = system.grid.blocks * kNodesPerBlock;
+  for_each(exec, nodes, ApplyPreconditioner{system.projector, inverse_diagonal, r, z, nodes});
 }
 
 void apply_implicit_operator(const Exec& exec, const ImplicitSystem& system, Span<const float> x, Span<float> Ax) {

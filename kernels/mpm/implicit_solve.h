@@ -19,26 +19,31 @@
 // nodes that carry mass, and CG applies. Particles of Dirichlet groups add no stiffness: G2P
 // prescribes their F, so it does not depend on the grid velocities.
 //
-// Constrained components. The walls and colliders fix some velocity components of v* (grid_boundary.h);
-// those are held at their v* value and are not unknowns: the operator is S A S, with S the 0/1
-// diagonal `free`, and the held values enter through the initial residual S (M v* − A v*). Held are
-//   - inside a sticky collider, every component; inside a slip or separating one, the components
-//     along which its normal has a share above 0.1 (S stays diagonal: an axis-aligned normal's
-//     component exactly, an oblique normal's two or three), unless v* separates from a separating
-//     collider. Tangential components stay unknowns, for the reason below;
-//   - on a sticky wall, every component; on a slip or separating wall, the normal component when v*
-//     does not move away from the wall (there the grid update removed the approach). A node that
+// Constrained directions. The walls and colliders fix the velocity of some nodes along some
+// directions (grid_boundary.h); there the velocity keeps its v* value and is not unknown: the
+// operator is S A S with S_i = I − Σ q qᵀ the orthogonal projector of node i onto the directions
+// left free (q an orthonormal basis of the held ones), and the held values enter through the
+// initial residual S (M v* − A v*). Held are
+//   - inside a sticky collider, the whole velocity; inside a slip or separating one, the direction
+//     of its normal, unless v* separates from a separating collider. The tangential plane stays
+//     unknown, also for an oblique normal (a sphere, a cylinder): held, it would be integrated
+//     explicitly at an implicit step, which is unstable (ImplicitStep.CubeUnderASlipPlateStaysStable
+//     goes non-finite when it is);
+//   - on a sticky wall, the whole velocity; on a slip or separating wall, the normal direction when
+//     v* does not move away from the wall (there the grid update removed the approach). A node that
 //     separates from a wall is free: holding it would integrate its motion explicitly, which at an
 //     implicit Δt is unstable. resolve_boundaries runs again after the solve, so a free node that the
 //     solve turns towards the wall is stopped there like any other.
-// Massless nodes are not unknowns either (no particle reads them).
+// Massless nodes are not unknowns either (no particle reads them): S = 0 there.
 //
-// Vectors are flat: 3 planes of the grid's active nodes (stride grid.blocks · kNodesPerBlock).
+// Vectors are flat: 3 planes of the grid's active nodes (stride grid.blocks · kNodesPerBlock); the
+// projectors are 9 such planes.
 #pragma once
 
 #include "kernels/core/exec.h"
 #include "kernels/core/span.h"
 #include "kernels/material/material.h"
+#include "kernels/math/mat3_planes.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/mpm/step.h"
@@ -51,21 +56,26 @@ struct ImplicitSystem {
   GridView grid;  // mass, and v* in `velocity`
   StepParams step;
   Span<const material::PrincipalStiffness<float>> stiffness;  // per particle, at its F
-  Span<const float> free;  // per node and component: 1 for an unknown, 0 where held
+  Mat3Planes<const float> projector;  // per node: S_i, onto the directions that are unknown
 };
 
 // The semidefinite stiffness of each particle at its current (elastic) F; zero for Dirichlet particles.
 void linearise_particles(const Exec& exec, const ParticleView& particles, const StepParams& step,
                          Span<material::PrincipalStiffness<float>> stiffness);
 
-// `free` (3 planes of active nodes) as described above, from the grid's mass and v*.
-void find_free_components(const Exec& exec, const GridView& grid, const StepParams& step, Span<float> free);
+// The projector S_i of every active node as described above, from the grid's mass and v*.
+void find_projectors(const Exec& exec, const GridView& grid, const StepParams& step, Mat3Planes<float> projector);
 
-// The inverse of diag(M + Δt² K) on free components, 0 on held ones (Eq. 17-19 for MLS-MPM:
+// The inverse of diag(M + Δt² K) on nodes with mass, 0 on the others (Eq. 17-19 for MLS-MPM:
 // K_ii,aa = Σ_p V⁰_p δF_a : δP(δF_a) with δF_a = e_a (F_pᵀ ∇w_ip)ᵀ).
 void jacobi_inverse_diagonal(const Exec& exec, const ImplicitSystem& system, Span<float> inverse_diagonal);
 
-// Ax = S (M x + Δt² K x). x need not vanish on held components: their values act on the free ones.
+// z = S D⁻¹ r: the Jacobi preconditioner S D⁻¹ S for r in the range of S (symmetric, and positive
+// definite on that range, as preconditioned CG needs).
+void apply_preconditioner(const Exec& exec, const ImplicitSystem& system, Span<const float> inverse_diagonal,
+                          Span<const float> r, Span<float> z);
+
+// Ax = S (M x + Δt² K x). x need not vanish along held directions: their values act on the free ones.
 void apply_implicit_operator(const Exec& exec, const ImplicitSystem& system, Span<const float> x, Span<float> Ax);
 
 // Mx = S M x, the right-hand side S M v* for x = v*.

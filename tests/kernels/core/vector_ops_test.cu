@@ -23,9 +23,8 @@ std::vector<float> random_vector(Index n, unsigned seed) {
 TEST(VectorOps, ElementwiseUpdates) {
   const Exec& exec = test::exec();
   const Index n = 1000;
-  const std::vector<float> x = random_vector(n, 1), y0 = random_vector(n, 2), d = random_vector(n, 3);
+  const std::vector<float> x = random_vector(n, 1), y0 = random_vector(n, 2);
   const DeviceBuffer<float> x_buffer = DeviceBuffer<float>::from_host(exec.backend, x, exec.stream);
-  const DeviceBuffer<float> d_buffer = DeviceBuffer<float>::from_host(exec.backend, d, exec.stream);
   DeviceBuffer<float> y = DeviceBuffer<float>::from_host(exec.backend, y0, exec.stream);
 
   axpy(exec, 0.5f, x_buffer.span(), y.span());
@@ -36,10 +35,6 @@ TEST(VectorOps, ElementwiseUpdates) {
   xpby(exec, x_buffer.span(), -2.0f, y.span());
   result = y.to_host(exec.stream);
   for (Index k = 0; k < n; ++k) EXPECT_EQ(result[k], x[k] + -2.0f * y0[k]);
-
-  multiply(exec, d_buffer.span(), x_buffer.span(), y.span());
-  result = y.to_host(exec.stream);
-  for (Index k = 0; k < n; ++k) EXPECT_EQ(result[k], d[k] * x[k]);
 }
 
 TEST(VectorOps, DotIsAccurateAndIndependentOfTheThreadCount) {

@@ -79,18 +79,26 @@ class ImplicitOperatorFixture {
     particle_to_grid(exec_, particles, grid, step);  // the node masses M
     nodes_ = grid.blocks * kNodesPerBlock;
     stiffness_ = DeviceBuffer<material::PrincipalStiffness<float>>(exec_.backend, particles.count);
-    free_ = DeviceBuffer<float>(exec_.backend, 3 * nodes_);
+    projector_ = DeviceBuffer<float>(exec_.backend, 9 * nodes_);
     linearise_particles(exec_, particles, step, stiffness_.span());
-    find_free_components(exec_, grid, step, free_.span());
+    find_projectors(exec_, grid, step, Mat3Planes<float>(projector_.data(), nodes_));
     system_.particles = particles;
     system_.grid = grid;
     system_.stiffness = stiffness_.span();
-    system_.free = free_.span();
+    system_.projector = Mat3Planes<const float>(projector_.data(), nodes_);
   }
 
   Index unknowns() const { return 3 * nodes_; }
   const mpm::ParticleInit& init() const { return init_; }
-  std::vector<float> free() const { return free_.to_host(exec_.stream); }
+  // Per node and component, 1 where the velocity is unknown and 0 where held: the projectors'
+  // diagonals, which here (no walls or colliders in reach) are the whole projectors.
+  std::vector<float> free() const {
+    const std::vector<float> S = projector_.to_host(exec_.stream);
+    std::vector<float> diagonal(3 * nodes_);
+    for (int a = 0; a < 3; ++a)
+      std::copy(S.begin() + 4 * a * nodes_, S.begin() + (4 * a + 1) * nodes_, diagonal.begin() + a * nodes_);
+    return diagonal;
+  }
   float dt() const { return system_.step.dt; }
 
   // A x (with_stiffness) or M x, both masked by S.
@@ -145,7 +153,7 @@ class ImplicitOperatorFixture {
   DeviceBuffer<material::MaterialParams<float>> materials_;
   DeviceBuffer<std::int64_t> failures_;
   DeviceBuffer<material::PrincipalStiffness<float>> stiffness_;
-  DeviceBuffer<float> free_;
+  DeviceBuffer<float> projector_;
   ImplicitSystem system_;
   Index nodes_ = 0;
 };
@@ -272,10 +280,10 @@ TEST(ImplicitOperator, IsTheDerivativeOfTheExplicitForceWhereTheStiffnessIsDefin
 }
 
 // A row of particles 2.2 cells above the floor (their stencils reach node rows y = 1, 2, 3; rows
-// y < 3 are wall nodes) and one particle around a node inside a small sphere collider. The nodes
-// get mass 1 except in the layer z = 18 (massless), and v* = (0.3, 0 or 0.5, -0.2): at the floor,
-// the nodes with an odd x index move away from it.
-TEST(ImplicitUnknowns, WallsAndCollidersHoldTheComponentsTheyFix) {
+// y < 3 are wall nodes) and one particle around a node inside a small slip sphere, whose normal
+// there is oblique. The nodes get mass 1 except in the layer z = 18 (massless), and
+// v* = (0.3, 0 or 0.5, -0.2): at the floor, the nodes with an odd x index move away from it.
+TEST(ImplicitUnknowns, WallsAndCollidersHoldTheDirectionsTheyFix) {
   const Exec& exec = test::exec();
   std::vector<Vec3<float>> positions;
   for (int i = 0; i < 8; ++i) positions.emplace_back((10.5f + i) * kDx, 2.2f * kDx, 16.5f * kDx);
@@ -307,8 +315,12 @@ TEST(ImplicitUnknowns, WallsAndCollidersHoldTheComponentsTheyFix) {
 
   ColliderState sphere;
   sphere.shape = ColliderShape::Sphere;
-  sphere.center = Vec3<float>(25.0f * kDx, 17.0f * kDx, 17.0f * kDx);  // a node
-  sphere.half_extents = Vec3<float>::constant(0.6f * kDx);               // and none of its neighbours
+  // Around node (25, 17, 17) and none of its neighbours, off its centre: the node's normal is oblique.
+  const Vec3<float> inside_node(25.0f * kDx, 17.0f * kDx, 17.0f * kDx);
+  sphere.center = Vec3<float>(25.2f * kDx, 17.1f * kDx, 16.9f * kDx);
+  sphere.half_extents = Vec3<float>::constant(0.6f * kDx);
+  sphere.contact = ContactType::Slip;
+  const Vec3<float> normal = (1.0f / norm(inside_node - sphere.center)) * (inside_node - sphere.center);
   const DeviceBuffer<ColliderState> colliders =
       DeviceBuffer<ColliderState>::from_host(exec.backend, std::vector<ColliderState>{sphere}, exec.stream);
   for (const ContactType contact : {ContactType::Separate, ContactType::Sticky}) {
@@ -317,27 +329,29 @@ TEST(ImplicitUnknowns, WallsAndCollidersHoldTheComponentsTheyFix) {
     step.wall_cells = 3;
     step.wall_contact = contact;
     step.colliders = colliders.span();
-    DeviceBuffer<float> free(exec.backend, 3 * nodes);
-    find_free_components(exec, grid, step, free.span());
-    const std::vector<float> actual = free.to_host(exec.stream);
+    DeviceBuffer<float> projector(exec.backend, 9 * nodes);
+    find_projectors(exec, grid, step, Mat3Planes<float>(projector.data(), nodes));
+    const std::vector<float> planes = projector.to_host(exec.stream);
+    const Mat3Planes<const float> actual(planes.data(), nodes);
     int wall_nodes = 0, separating = 0, inside = 0;
     for (Index n = 0; n < nodes; ++n) {
       const GridNode node(host_grid, n);
-      Vec3<float> expected = Vec3<float>::constant(1.0f);
+      Mat3<float> expected = Mat3<float>::identity();
       if (node.index[1] < 3) {
         ++wall_nodes;
         separating += node.index[0] % 2;
-        expected = contact == ContactType::Sticky ? Vec3<float>::zero()
-                                                  : Vec3<float>(1.0f, node.index[0] % 2 ? 1.0f : 0.0f, 1.0f);
+        expected = contact == ContactType::Sticky ? Mat3<float>::zero()
+                                                  : Mat3<float>::diag(1.0f, node.index[0] % 2 ? 1.0f : 0.0f, 1.0f);
       }
       if (node.index[0] == 25 && node.index[1] == 17 && node.index[2] == 17) {
         ++inside;
-        expected = Vec3<float>::zero();
+        expected = Mat3<float>::identity() - Mat3<float>::outer(normal, normal);  // the slip sphere holds n only
       }
-      if (mass[n] == 0.0f) expected = Vec3<float>::zero();
-      for (int a = 0; a < 3; ++a)
-        ASSERT_EQ(actual[a * nodes + n], expected[a])
-            << "node (" << node.index[0] << ", " << node.index[1] << ", " << node.index[2] << ") component " << a;
+      if (mass[n] == 0.0f) expected = Mat3<float>::zero();
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+          ASSERT_NEAR(actual.load(n)(r, c), expected(r, c), 1e-6f)
+              << "node (" << node.index[0] << ", " << node.index[1] << ", " << node.index[2] << ") entry " << r << c;
     }
     EXPECT_GT(wall_nodes, 0);
     EXPECT_GT(separating, 0);
