@@ -33,6 +33,12 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
   for (const FieldInfo& info : kFieldInfos) {
     file.write_dataset(info.name, {std::uint64_t(info.components), n}, state.field(info.bit));
   }
+  if (!checkpoint.corner_x.empty()) {
+    if (checkpoint.corner_x.size() % 3 != 0)
+      throw Error(fmt::format("checkpoint {}: corner_x has {} values, not 3 planes", path, checkpoint.corner_x.size()));
+    file.write_dataset("corner_x", {3, std::uint64_t(checkpoint.corner_x.size() / 3)}, checkpoint.corner_x);
+    file.write_attribute("domain_stiffening", double(checkpoint.domain_stiffening));
+  }
   file.close();
   target.commit();
 }
@@ -58,6 +64,13 @@ Checkpoint read_checkpoint(const std::string& path) {
   for (const FieldInfo& info : kFieldInfos) {
     checkpoint.state.field(info.bit) =
         file.read_dataset<float>(info.name, {std::uint64_t(info.components), std::uint64_t(n)});
+  }
+  if (file.is_dataset("corner_x")) {
+    const hdf5::Shape shape = file.dataset_shape("corner_x");
+    if (shape.size() != 2 || shape[0] != 3)
+      throw Error(fmt::format("{}: corner_x must be [3, corners]", file.label()));
+    checkpoint.corner_x = file.read_dataset<float>("corner_x", shape);
+    checkpoint.domain_stiffening = float(file.read_double_attribute("domain_stiffening"));
   }
   return checkpoint;
 }

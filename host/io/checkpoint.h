@@ -3,11 +3,13 @@
 //
 // Layout: root attributes format = "romp-checkpoint", format_version = 1, particle_count, frame (i64),
 // time (f64), step (i64), tag (string); datasets x [3,n], v [3,n], F [9,n], C [9,n] (f32, engine planes
-// as they are: only romp reads this file).
+// as they are: only romp reads this file). With particle domains, also corner_x [3, corners] and the
+// attribute domain_stiffening (f32).
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "nn/snapshot_layout.h"
 
@@ -24,6 +26,10 @@ struct Checkpoint {
   std::int64_t frame = 0;
   // Opaque to io: what the runner checks before trusting the checkpoint (the resolved scene text).
   std::string tag;
+  // The particle domains' state besides the particles (mpm::DomainInit): corner positions (3 planes),
+  // empty without domains, and the last substep's stiffening.
+  std::vector<float> corner_x;
+  float domain_stiffening = 1.0f;
 };
 
 // Replaces `path` (normally checkpoint_path(snapshot)) with `checkpoint`. Write it after its frame has

@@ -81,10 +81,6 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   double restored_time = 0.0;
   std::int64_t restored_steps = 0;
   if (options.resume && unfinished) {
-    // Checkpoints hold particle state only, not the corners of particle domains.
-    if (!setup.particles.domains.empty())
-      throw scene::SceneError(fmt::format("{}: objects with domains = true cannot be resumed yet; run it without --resume",
-                                          scene.source_file));
     const io::Checkpoint checkpoint = io::read_checkpoint(checkpoint_file);
     if (checkpoint.tag != scene.resolved_text)
       throw scene::SceneError(fmt::format("{}: the scene differs from the one that wrote {}; run it without --resume",
@@ -94,6 +90,13 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
     init.v = checkpoint.state.v;
     init.F = checkpoint.state.F;
     init.C = checkpoint.state.C;
+    if (!init.domains.empty()) {
+      if (checkpoint.corner_x.size() != 3 * std::size_t(init.domains.corner_count()))
+        throw Error(fmt::format("{}: holds {} domain corner positions, the scene's domains have {} corners", checkpoint_file,
+                                checkpoint.corner_x.size() / 3, init.domains.corner_count()));
+      init.domains.resumed_corner_x = checkpoint.corner_x;
+      init.domains.stiffening = checkpoint.domain_stiffening;
+    }
     first_frame = checkpoint.frame;
     restored_time = checkpoint.state.time;
     restored_steps = checkpoint.state.step;
@@ -119,10 +122,14 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   auto hand_off = [&](std::int64_t frame) {
     const auto t0 = std::chrono::steady_clock::now();
     // Only the full-order engine has domain corners; a reduced run of the scene writes no meshes.
-    const std::vector<float> corners = setup.embedded_meshes.empty() ? std::vector<float>{} : sim.domain_corners();
-    if (!corners.empty()) {
+    const bool domains = !setup.particles.domains.empty() && !options.make_reduced;
+    auto corners = std::make_shared<const std::vector<float>>(
+        domains && (checkpoints || !setup.embedded_meshes.empty()) ? sim.domain_corners() : std::vector<float>{});
+    const float stiffening = domains && checkpoints ? sim.domain_stiffening() : 1.0f;
+    if (!corners->empty()) {
       for (const geometry::EmbeddedMesh& mesh : setup.embedded_meshes) {
-        auto vertices = std::make_shared<const std::vector<Vec3<double>>>(mesh.deformed(setup.particles.domains, corners));
+        auto vertices =
+            std::make_shared<const std::vector<Vec3<double>>>(mesh.deformed(setup.particles.domains, *corners));
         worker.submit([&output, &mesh, vertices, frame, &scene] {
           io::write_obj(io::mesh_frame_path(output, mesh.name, frame), *vertices, mesh.triangles,
                         fmt::format("{} frame {}: {} embedded in its particle domains", scene.name, frame, mesh.name));
@@ -130,9 +137,10 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
       }
     }
     auto state = std::make_shared<const io::FrameData>(sim.capture());
-    worker.submit([&writer, state, frame, &checkpoint_file, &scene, checkpoints] {
+    worker.submit([&writer, state, frame, &checkpoint_file, &scene, checkpoints, corners, stiffening] {
       writer->append_frame(*state);
-      if (checkpoints) io::write_checkpoint(checkpoint_file, io::Checkpoint{*state, frame, scene.resolved_text});
+      if (checkpoints)
+        io::write_checkpoint(checkpoint_file, io::Checkpoint{*state, frame, scene.resolved_text, *corners, stiffening});
     });
     output_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };

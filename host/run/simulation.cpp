@@ -31,8 +31,8 @@ class FullOrderRun final : public Simulation {
   std::vector<float> domain_corners() override {
     return sim_.domains() ? sim_.domains()->corner_positions_on_host(sim_.exec()) : std::vector<float>{};
   }
-  // Checkpoints hold particles, not the corners of particle domains.
-  bool resumable() const override { return !sim_.domains(); }
+  float domain_stiffening() override { return sim_.domains() ? sim_.domains()->stiffening(sim_.exec()) : 1.0f; }
+  bool resumable() const override { return true; }
   std::vector<std::string> diagnostics() const override {
     std::vector<std::string> lines;
     const EnrichmentStatistics& enrichment = sim_.enrichment_statistics();

@@ -26,10 +26,12 @@ class Simulation {
   virtual double time() const = 0;
   virtual std::int64_t steps() const = 0;
   virtual std::vector<std::pair<std::string, double>> stage_seconds() const = 0;
-  // Whether a checkpoint (a FrameData) is enough to continue this simulation.
+  // Whether a checkpoint (particles, and domain corners when there are any) is enough to continue this simulation.
   virtual bool resumable() const = 0;
-  // The corners of the particle domains (3 planes), empty without domains: what embedded meshes follow.
+  // The corners of the particle domains (3 planes), empty without domains: what embedded meshes
+  // follow, and with domain_stiffening what a checkpoint needs besides the particles.
   virtual std::vector<float> domain_corners() { return {}; }
+  virtual float domain_stiffening() { return 1.0f; }
   // Lines for the end-of-run report about solver health (e.g. iterations that did not converge).
   virtual std::vector<std::string> diagnostics() const { return {}; }
 };

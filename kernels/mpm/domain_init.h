@@ -20,6 +20,11 @@ struct DomainInit {
   std::vector<std::int32_t> corner;           // 8 per domain: corner indices
   std::vector<float> weight;                  // 8 per domain: ω_αp
   std::vector<float> gradient;                // 3 per entry: g_αp as (x, y, z) (1/m); kernels see planes
+  // A run resumed from a checkpoint starts from the corners' positions then (3 planes; empty: at
+  // corner_x, which stays the reference configuration) and from the domain_stiffening of the substep
+  // before (1 at rest), which the first CFL step reads.
+  std::vector<float> resumed_corner_x;
+  float stiffening = 1.0f;
 
   Index count() const { return Index(corner.size()) / kDomainCorners; }
   // Corner α of domain d in `planes`: 3 planes over the corners, corner_x or a later state of it.

@@ -227,7 +227,10 @@ ParticleDomains::ParticleDomains(Backend backend, const DomainInit& init)
   for (Index e = 0; e < entries; ++e)
     for (int a = 0; a < 3; ++a) gradient_planes[std::size_t(a * entries + e)] = init.gradient[std::size_t(3 * e + a)];
   gradient_ = DeviceBuffer<float>::from_host(backend, gradient_planes);
-  x_ = DeviceBuffer<float>::from_host(backend, init.corner_x);
+  ROMP_CHECK(init.resumed_corner_x.empty() || init.resumed_corner_x.size() == init.corner_x.size(),
+             "particle domains: resumed corner positions for " + to_string(init.resumed_corner_x.size() / 3) +
+                 " corners, the domains have " + to_string(corner_count_));
+  x_ = DeviceBuffer<float>::from_host(backend, init.resumed_corner_x.empty() ? init.corner_x : init.resumed_corner_x);
   for (DeviceBuffer<float>* planes : {&v_, &v_old_, &moved_, &momentum_, &force_}) {
     *planes = DeviceBuffer<float>(backend, 3 * corner_count_);
     planes->fill_zero();
@@ -238,8 +241,9 @@ ParticleDomains::ParticleDomains(Backend backend, const DomainInit& init)
   enriched_.fill_zero();
   enriched_particles_ = DeviceBuffer<std::int32_t>(backend, 1);
   enriched_particles_.fill_zero();
-  const std::vector<float> at_rest{1.0f};
-  stiffening_ = DeviceBuffer<float>::from_host(backend, at_rest);
+  ROMP_CHECK(init.stiffening >= 1.0f, "particle domains: the initial stiffening must be >= 1, got " +
+                                          std::to_string(init.stiffening));
+  stiffening_ = DeviceBuffer<float>::from_host(backend, std::vector<float>{init.stiffening});
   double smallest_edge = std::numeric_limits<double>::infinity();
   for (Index d = 0; d < count_; ++d)
     // Corner 0's three neighbours along the reference axes (α = 4, 2, 1).
