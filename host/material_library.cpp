@@ -87,7 +87,7 @@ MaterialSpec to_material_spec(const scene::MaterialSpecification& m) {
     }
   }
   if (m.model != MaterialModel::WeaklyCompressibleFluid) params = params.with_min_stretch(float(m.min_stretch));
-  return {params, float(m.density), ""};
+  return {params, float(m.density), "", m.strength_off_from, m.strength_off_until};
 }
 
 MaterialSpec nclaw_material(NclawMaterial which) { return to_material_spec(nclaw_preset(which)); }

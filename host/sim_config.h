@@ -17,6 +17,11 @@ struct MaterialSpec {
   float density = 1000.0f;  // kg/m^3, for the wave speed of the CFL condition
   // The law file (romp-neural-law) of a MaterialModel::Neural material; empty for every other.
   std::string neural_law;
+  // While strength_off_from <= t < strength_off_until the material has no stiffness (μ = λ = 0): a
+  // body collapses under its loads, and recovers when its strength returns (the enriched-MPM
+  // paper's Fig. 5). Hyperelastic models only; an empty window by default.
+  double strength_off_from = 0.0, strength_off_until = 0.0;
+  bool strength_off_at(double t) const { return t >= strength_off_from && t < strength_off_until; }
 };
 
 // A collider's pose at t = 0 and its constant rigid motion: center(t) = center + v t,

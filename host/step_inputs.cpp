@@ -33,19 +33,38 @@ StepInputs::StepInputs(const Exec& exec, const FullOrderConfig& config) : exec_(
                          implicit ? "implicit" : "explicit"));
   ROMP_CHECK(config.flip_alpha >= 0.0f && config.flip_alpha <= 1.0f, "flip_alpha must be in [0, 1]");
 
-  std::vector<material::MaterialParams<float>> table;
   for (const MaterialSpec& m : config.materials) {
     ROMP_CHECK(m.density > 0.0f, "material density must be > 0");
-    table.push_back(m.params);
+    const bool window = m.strength_off_until > m.strength_off_from;
+    ROMP_CHECK(!window || m.params.model == material::MaterialModel::FixedCorotated ||
+                   m.params.model == material::MaterialModel::NeoHookean ||
+                   m.params.model == material::MaterialModel::HenckyStVK,
+               "strength_off is for the hyperelastic models (fixed corotated, Neo-Hookean, Hencky)");
     plastic_ = plastic_ || material::is_plastic(m.params.model);
+    // At full strength: the CFL step stays safe when the strength returns.
     max_wave_speed_ = std::max(max_wave_speed_, std::sqrt((m.params.lambda + 2.0f * m.params.mu) / m.density));
   }
-  materials_ = upload(exec.backend, table);
+  upload_materials(0.0);
   first_failure_ = DeviceBuffer<std::int64_t>(exec.backend, mpm::kStageCount);
+}
+
+void StepInputs::upload_materials(double time) {
+  std::vector<bool> off;
+  for (const MaterialSpec& m : config_.materials) off.push_back(m.strength_off_at(time));
+  if (!materials_.empty() && off == strength_off_) return;
+  std::vector<material::MaterialParams<float>> table;
+  for (std::size_t i = 0; i < config_.materials.size(); ++i) {
+    material::MaterialParams<float> params = config_.materials[i].params;
+    if (off[i]) params.mu = params.lambda = 0.0f;
+    table.push_back(params);
+  }
+  materials_ = upload(exec_.backend, table);
+  strength_off_ = std::move(off);
 }
 
 mpm::StepParams StepInputs::at(double time, float dt) {
   const FullOrderConfig& config = config_;
+  upload_materials(time);
   std::vector<mpm::ColliderState> colliders;
   for (const ColliderSpec& spec : config.colliders) {
     if (time >= spec.end) continue;

@@ -57,11 +57,15 @@ class StepInputs {
   float max_wave_speed() const { return max_wave_speed_; }
 
  private:
+  // The material table at `time` (strength windows applied), uploaded only when it changes.
+  void upload_materials(double time);
+
   Exec exec_;
   FullOrderConfig config_;
   bool plastic_ = false;
   float max_wave_speed_ = 0.0f;
   DeviceBuffer<material::MaterialParams<float>> materials_;
+  std::vector<bool> strength_off_;  // per material, as materials_ holds it now
   DeviceBuffer<mpm::ColliderState> colliders_;
   DeviceBuffer<mpm::RigidMotion> dirichlet_;
   DeviceBuffer<mpm::RegionLoad> loads_;

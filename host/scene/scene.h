@@ -54,6 +54,7 @@ struct MaterialSpecification {
   double cohesion = 0.0;           // Drucker–Prager
   double min_stretch = 0.1;        // inversion handling: stress sees principal stretches >= this (0: off); not fluids
   std::string neural_law;          // MaterialModel::Neural: the law file (absolute path), from `neural = "law.h5"`
+  double strength_off_from = 0.0, strength_off_until = 0.0;  // s; no stiffness in between (MaterialSpec)
 };
 
 struct ObjectSpec {

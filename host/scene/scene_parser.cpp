@@ -231,6 +231,16 @@ MaterialSpecification read_material(TableReader t, const std::string& name, cons
   }
   if (m.model != MaterialModel::WeaklyCompressibleFluid)
     m.min_stretch = t.number("min_stretch", m.min_stretch, Range::closed_open(0.0, 1.0));
+  if (t.has("strength_off")) {
+    if (m.model != MaterialModel::FixedCorotated && m.model != MaterialModel::NeoHookean &&
+        m.model != MaterialModel::HenckyStVK)
+      t.fail("strength_off", "only the hyperelastic models (fixed-corotated, neo-hookean, hencky-stvk) can lose their strength");
+    const std::vector<double> window = t.numbers("strength_off", {}, Range::non_negative(), 2, 2);
+    if (!(window[1] > window[0]))
+      t.fail("strength_off", fmt::format("[from, until] must have until > from, got [{}, {}]", window[0], window[1]));
+    m.strength_off_from = window[0];
+    m.strength_off_until = window[1];
+  }
   t.finish();
   return m;
 }

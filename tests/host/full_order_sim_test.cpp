@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <vector>
 
@@ -215,6 +216,41 @@ TEST(FullOrderSim, BouncingCubeGainsNoEnergy) {
     highest = std::max(highest, mechanical_energy(sim, init));
   }
   EXPECT_LE(highest, initial + 0.01 * std::abs(initial));
+}
+
+// Height of the body: highest particle minus lowest.
+float body_height(FullOrderSim& sim) {
+  const std::vector<float> x = sim.particles().positions_in_initial_order(sim.exec());
+  const Index n = Index(x.size() / 3);
+  const auto [low, high] = std::minmax_element(x.begin() + n, x.begin() + 2 * n);
+  return *high - *low;
+}
+
+// The enriched-MPM paper's Fig. 5 in small: a jelly cube on the floor without its strength
+// (strength_off for 0.2 s) collapses under gravity, then stands up again when the strength returns.
+TEST(FullOrderSim, CubeWithoutStrengthCollapsesAndRecoversWhenItReturns) {
+  const float dx = 1.0f / 32.0f;
+  MaterialSpec material = jelly(1e5f, 0.3f);
+  material.strength_off_from = 0.0;
+  material.strength_off_until = 0.2;
+  FullOrderConfig config = test::open_space_config(dx, 32, material);
+  config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
+  config.wall_contact = mpm::ContactType::Separate;
+  const mpm::ParticleInit init =
+      test::lattice_box({0.4f, 3.5f * dx, 0.4f}, {0.6f, 3.5f * dx + 0.2f, 0.6f}, dx, 2, kJellyDensity);
+  FullOrderSim sim(test::exec(), config, init);
+  const float initial = body_height(sim);
+  sim.advance_to(0.2);
+  const float collapsed = body_height(sim);
+  sim.advance_to(1.0);
+  const float recovered = body_height(sim);
+  std::printf("height: %.4f m at rest, %.4f m without strength (t = 0.2 s), %.4f m at t = 1 s\n", initial,
+              collapsed, recovered);
+  // Measured on the CPU: 18% of the height at 0.2 s, 88% at 1 s. (Left without strength longer,
+  // every layer reaches the floor's wall nodes and the body becomes one plane of particles, from
+  // which no MPM transfer can separate them again: 0.25 s does that here.)
+  EXPECT_LT(collapsed, 0.25f * initial);
+  EXPECT_GT(recovered, 0.8f * initial);
 }
 
 // A block of sand collapses on a sticky floor into a heap whose flanks settle near the friction
