@@ -71,6 +71,9 @@ float FullOrderSim::stable_dt() {
 void FullOrderSim::substep(float dt) {
   ROMP_CHECK(dt > 0.0f && std::isfinite(dt), fmt::format("substep dt must be finite and > 0, got {}", dt));
   release_ended_dirichlet_groups();
+  if (domains_)
+    for (const DomainReleaseSpec& release : config_.domain_releases)
+      if (time_ >= release.start && time_ < release.end) mpm::release_domains(exec_, particles_.view(), release.region);
   mpm::StepParams step = inputs_.at(time_, dt);
 
   StageClock timed(exec_, stage_seconds_);

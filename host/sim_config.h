@@ -40,6 +40,13 @@ struct DirichletSpec {
   double end = std::numeric_limits<double>::infinity();
 };
 
+// Particles inside `region` while start <= t < end lose their domains for good (mpm::release_domains).
+struct DomainReleaseSpec {
+  mpm::Region region;
+  double start = 0.0;
+  double end = std::numeric_limits<double>::infinity();
+};
+
 struct RegionLoadSpec {
   mpm::RegionLoad load;
   double start = 0.0;  // s; the load acts for start <= t < end
@@ -87,6 +94,7 @@ struct FullOrderConfig {
   std::vector<ColliderSpec> colliders;
   std::vector<DirichletSpec> dirichlet;
   std::vector<RegionLoadSpec> loads;
+  std::vector<DomainReleaseSpec> domain_releases;
 };
 
 }  // namespace romp

@@ -36,7 +36,11 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
   if (!checkpoint.corner_x.empty()) {
     if (checkpoint.corner_x.size() % 3 != 0)
       throw Error(fmt::format("checkpoint {}: corner_x has {} values, not 3 planes", path, checkpoint.corner_x.size()));
+    if (checkpoint.particle_domain.size() != n)
+      throw Error(fmt::format("checkpoint {}: particle_domain has {} entries for {} particles", path,
+                              checkpoint.particle_domain.size(), n));
     file.write_dataset("corner_x", {3, std::uint64_t(checkpoint.corner_x.size() / 3)}, checkpoint.corner_x);
+    file.write_dataset("particle_domain", {n}, checkpoint.particle_domain);
     file.write_attribute("domain_stiffening", double(checkpoint.domain_stiffening));
   }
   file.close();
@@ -70,6 +74,7 @@ Checkpoint read_checkpoint(const std::string& path) {
     if (shape.size() != 2 || shape[0] != 3)
       throw Error(fmt::format("{}: corner_x must be [3, corners]", file.label()));
     checkpoint.corner_x = file.read_dataset<float>("corner_x", shape);
+    checkpoint.particle_domain = file.read_dataset<std::int32_t>("particle_domain", {std::uint64_t(n)});
     checkpoint.domain_stiffening = float(file.read_double_attribute("domain_stiffening"));
   }
   return checkpoint;

@@ -3,8 +3,8 @@
 //
 // Layout: root attributes format = "romp-checkpoint", format_version = 1, particle_count, frame (i64),
 // time (f64), step (i64), tag (string); datasets x [3,n], v [3,n], F [9,n], C [9,n] (f32, engine planes
-// as they are: only romp reads this file). With particle domains, also corner_x [3, corners] and the
-// attribute domain_stiffening (f32).
+// as they are: only romp reads this file). With particle domains, also corner_x [3, corners],
+// particle_domain [n] (i32, kNoDomain where released) and the attribute domain_stiffening.
 #pragma once
 
 #include <cstdint>
@@ -27,8 +27,9 @@ struct Checkpoint {
   // Opaque to io: what the runner checks before trusting the checkpoint (the resolved scene text).
   std::string tag;
   // The particle domains' state besides the particles (mpm::DomainInit): corner positions (3 planes),
-  // empty without domains, and the last substep's stiffening.
+  // each particle's domain (initial order), both empty without domains, and the last substep's stiffening.
   std::vector<float> corner_x;
+  std::vector<std::int32_t> particle_domain;
   float domain_stiffening = 1.0f;
 };
 

@@ -96,6 +96,7 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
                                 checkpoint.corner_x.size() / 3, init.domains.corner_count()));
       init.domains.resumed_corner_x = checkpoint.corner_x;
       init.domains.stiffening = checkpoint.domain_stiffening;
+      init.domain = checkpoint.particle_domain;  // with the ones released since the start
     }
     first_frame = checkpoint.frame;
     restored_time = checkpoint.state.time;
@@ -123,13 +124,12 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
     const auto t0 = std::chrono::steady_clock::now();
     // Only the full-order engine has domain corners; a reduced run of the scene writes no meshes.
     const bool domains = !setup.particles.domains.empty() && !options.make_reduced;
-    auto corners = std::make_shared<const std::vector<float>>(
-        domains && (checkpoints || !setup.embedded_meshes.empty()) ? sim.domain_corners() : std::vector<float>{});
-    const float stiffening = domains && checkpoints ? sim.domain_stiffening() : 1.0f;
-    if (!corners->empty()) {
+    auto domain_state = std::make_shared<const DomainState>(
+        domains && (checkpoints || !setup.embedded_meshes.empty()) ? sim.domain_state() : DomainState{});
+    if (!domain_state->corner_x.empty()) {
       for (const geometry::EmbeddedMesh& mesh : setup.embedded_meshes) {
         auto vertices =
-            std::make_shared<const std::vector<Vec3<double>>>(mesh.deformed(setup.particles.domains, *corners));
+            std::make_shared<const std::vector<Vec3<double>>>(mesh.deformed(setup.particles.domains, domain_state->corner_x));
         worker.submit([&output, &mesh, vertices, frame, &scene] {
           io::write_obj(io::mesh_frame_path(output, mesh.name, frame), *vertices, mesh.triangles,
                         fmt::format("{} frame {}: {} embedded in its particle domains", scene.name, frame, mesh.name));
@@ -137,10 +137,12 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
       }
     }
     auto state = std::make_shared<const io::FrameData>(sim.capture());
-    worker.submit([&writer, state, frame, &checkpoint_file, &scene, checkpoints, corners, stiffening] {
+    worker.submit([&writer, state, frame, &checkpoint_file, &scene, checkpoints, domain_state] {
       writer->append_frame(*state);
       if (checkpoints)
-        io::write_checkpoint(checkpoint_file, io::Checkpoint{*state, frame, scene.resolved_text, *corners, stiffening});
+        io::write_checkpoint(checkpoint_file,
+                             io::Checkpoint{*state, frame, scene.resolved_text, domain_state->corner_x,
+                                            domain_state->particle_domain, domain_state->stiffening});
     });
     output_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };

@@ -28,10 +28,11 @@ class FullOrderRun final : public Simulation {
   double time() const override { return sim_.time(); }
   std::int64_t steps() const override { return sim_.steps(); }
   std::vector<std::pair<std::string, double>> stage_seconds() const override { return sim_.stage_seconds(); }
-  std::vector<float> domain_corners() override {
-    return sim_.domains() ? sim_.domains()->corner_positions_on_host(sim_.exec()) : std::vector<float>{};
+  DomainState domain_state() override {
+    if (!sim_.domains()) return {};
+    return {sim_.domains()->corner_positions_on_host(sim_.exec()), sim_.domains()->stiffening(sim_.exec()),
+            sim_.particles().domains_in_initial_order(sim_.exec())};
   }
-  float domain_stiffening() override { return sim_.domains() ? sim_.domains()->stiffening(sim_.exec()) : 1.0f; }
   bool resumable() const override { return true; }
   std::vector<std::string> diagnostics() const override {
     std::vector<std::string> lines;

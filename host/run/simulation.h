@@ -16,6 +16,12 @@
 
 namespace romp::run {
 
+struct DomainState {
+  std::vector<float> corner_x;                // 3 planes over the corners
+  float stiffening = 1.0f;                    // the last substep's domain_stiffening
+  std::vector<std::int32_t> particle_domain;  // in the initial order; kNoDomain where released
+};
+
 class Simulation {
  public:
   virtual ~Simulation() = default;
@@ -28,10 +34,9 @@ class Simulation {
   virtual std::vector<std::pair<std::string, double>> stage_seconds() const = 0;
   // Whether a checkpoint (particles, and domain corners when there are any) is enough to continue this simulation.
   virtual bool resumable() const = 0;
-  // The corners of the particle domains (3 planes), empty without domains: what embedded meshes
-  // follow, and with domain_stiffening what a checkpoint needs besides the particles.
-  virtual std::vector<float> domain_corners() { return {}; }
-  virtual float domain_stiffening() { return 1.0f; }
+  // The state of the particle domains besides the particles (empty without domains): what embedded
+  // meshes follow (the corners) and what a checkpoint needs with the particles.
+  virtual DomainState domain_state() { return {}; }
   // Lines for the end-of-run report about solver health (e.g. iterations that did not converge).
   virtual std::vector<std::string> diagnostics() const { return {}; }
 };

@@ -97,6 +97,13 @@ struct PokeSpec {
   double start = 0.0, end = 0.0;
 };
 
+// Particles inside `region` while start <= t < end lose their domains for good (mpm::release_domains).
+struct DomainReleaseSpecification {
+  ShapeSpec region;  // box (axis-aligned) or sphere
+  double start = 0.0;
+  double end = std::numeric_limits<double>::infinity();
+};
+
 struct OutputSpec {
   std::string file;                               // snapshot path (.h5)
   std::vector<std::string> fields{"x", "v", "F", "C"};
@@ -128,6 +135,7 @@ struct Scene {
   std::vector<ColliderSpecification> colliders;
   std::vector<DirichletGroupSpec> dirichlet;
   std::vector<PokeSpec> pokes;
+  std::vector<DomainReleaseSpecification> domain_releases;
   OutputSpec output;
   // The parameters the formulas saw (a sweep member's values), in declaration-independent name order.
   std::map<std::string, double> parameters;

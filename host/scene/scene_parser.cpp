@@ -344,13 +344,34 @@ void read_dirichlet(SceneReader& r, TableReader& root) {
   }
 }
 
+// A region of a poke or a domain release: a sphere or an axis-aligned box.
+ShapeSpec read_region(SceneReader& r, TableReader& t, const std::string& what) {
+  ShapeSpec region = read_shape(t.table("region"), {"box", "sphere"}, r.folder);
+  if (region.type == ShapeType::Box && !(region.rotation == Mat3<double>::identity()))
+    t.fail("region", "a " + what + "'s box must be axis-aligned (rotation_degrees = 0)");
+  return region;
+}
+
+void read_domain_releases(SceneReader& r, TableReader& root) {
+  for (TableReader& t : root.tables("domain_release")) {
+    const bool any_domains = std::any_of(r.scene.objects.begin(), r.scene.objects.end(),
+                                         [](const ObjectSpec& o) { return o.domains; });
+    if (!any_domains) t.fail("", "releases particle domains, but no object has domains = true");
+    DomainReleaseSpecification release;
+    release.region = read_region(r, t, "domain release");
+    release.start = t.number("start", 0.0, Range::non_negative());
+    if (t.has("end")) release.end = t.number("end", 0.0, Range::positive());
+    if (!(release.end > release.start)) t.fail("end", fmt::format("must be > start = {}", release.start));
+    t.finish();
+    r.scene.domain_releases.push_back(std::move(release));
+  }
+}
+
 void read_loads(SceneReader& r, TableReader t) {
   r.scene.gravity = t.vec3("gravity", Vec3<double>(0.0, -9.81, 0.0));
   for (TableReader& p : t.tables("pokes")) {
     PokeSpec poke;
-    poke.region = read_shape(p.table("region"), {"box", "sphere"}, r.folder);
-    if (poke.region.type == ShapeType::Box && !(poke.region.rotation == Mat3<double>::identity()))
-      p.fail("region", "a poke's box must be axis-aligned (rotation_degrees = 0)");
+    poke.region = read_region(r, p, "poke");
     poke.acceleration = p.required_vec3("acceleration");
     poke.start = p.number("start", 0.0, Range::non_negative());
     poke.end = p.required_number("end", Range::positive());
@@ -432,6 +453,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const Parame
   read_objects(r, root);
   read_colliders(r, root);
   read_dirichlet(r, root);
+  read_domain_releases(r, root);
   read_loads(r, root.optional_table("loads"));
   read_output(r, root.optional_table("output"));
   if (root.has("sweep")) {
@@ -443,7 +465,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const Parame
 
   r.scene.resolved_text =
       to_toml(resolved, {"scene", "parameters", "domain", "time", "solver", "boundary", "materials", "objects",
-                         "colliders", "dirichlet", "loads", "output", "sweep"});
+                         "colliders", "dirichlet", "domain_release", "loads", "output", "sweep"});
   r.scene.source_file = file;
   return std::move(r.scene);
 }

@@ -25,6 +25,16 @@ Mat3<float> to_float(const Mat3<double>& m) {
   return f;
 }
 
+// A poke's or domain release's region (a sphere or an axis-aligned box) for the kernels.
+mpm::Region to_region(const ShapeSpec& shape) {
+  mpm::Region region;
+  region.shape = shape.type == ShapeType::Sphere ? mpm::RegionShape::Sphere : mpm::RegionShape::Box;
+  region.center = to_float(shape.center);
+  region.half_extents =
+      shape.type == ShapeType::Sphere ? Vec3<float>::constant(float(shape.radius)) : to_float(shape.size * 0.5);
+  return region;
+}
+
 FullOrderConfig engine_config(const Scene& scene) {
   FullOrderConfig c;
   c.dx = float(scene.dx);
@@ -57,13 +67,12 @@ FullOrderConfig engine_config(const Scene& scene) {
     c.dirichlet.push_back(DirichletSpec{to_float(g.pivot), to_float(g.velocity), to_float(g.angular_velocity), g.end});
   for (const PokeSpec& p : scene.pokes) {
     mpm::RegionLoad load;
-    load.shape = p.region.type == ShapeType::Sphere ? mpm::RegionShape::Sphere : mpm::RegionShape::Box;
-    load.center = to_float(p.region.center);
-    load.half_extents = p.region.type == ShapeType::Sphere ? Vec3<float>::constant(float(p.region.radius))
-                                                           : to_float(p.region.size * 0.5);
+    static_cast<mpm::Region&>(load) = to_region(p.region);
     load.acceleration = to_float(p.acceleration);
     c.loads.push_back(RegionLoadSpec{load, p.start, p.end});
   }
+  for (const DomainReleaseSpecification& d : scene.domain_releases)
+    c.domain_releases.push_back(DomainReleaseSpec{to_region(d.region), d.start, d.end});
   return c;
 }
 

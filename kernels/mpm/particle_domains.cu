@@ -201,7 +201,19 @@ struct CornersToParticles {
   }
 };
 
+struct ReleaseDomains {
+  ParticleView particles;
+  Region region;
+  ROMP_HD void operator()(Index p) const {
+    if (particles.has_domain(p) && region.contains(particles.x.load(p))) particles.domain[p] = kNoDomain;
+  }
+};
+
 }  // namespace
+
+void release_domains(const Exec& exec, const ParticleView& particles, const Region& region) {
+  if (!particles.domain.empty()) for_each(exec, particles.count, ReleaseDomains{particles, region});
+}
 
 ParticleDomains::ParticleDomains(Backend backend, const DomainInit& init)
     : count_(init.count()), corner_count_(init.corner_count()) {

@@ -121,6 +121,12 @@ class ParticleDomains {
 void mark_enrichment(const Exec& exec, const ParticleView& particles, const DomainView& domains,
                      const StepParams& step, float threshold);
 
+// Takes the domain away from every particle inside `region` (for good): from now on it exchanges
+// with the grid through its own stencil, like a particle that never had one, so the material can
+// separate there (the enriched-MPM paper disables domains "if topological changes are required").
+// Its corners stay, shared with the neighbours that keep theirs.
+void release_domains(const Exec& exec, const ParticleView& particles, const Region& region);
+
 // The stages, in pipeline order around update_grid. Only particles with a domain take part; the
 // others go through particle_to_grid and grid_to_particle, into the same grid.
 void particles_to_corners(const Exec& exec, const ParticleView& particles, const DomainView& domains,

@@ -215,10 +215,11 @@ void ParticleSet::release_dirichlet_group(const Exec& exec, std::int32_t group) 
   for_each(exec, count_, ReplaceValue<std::int32_t>{dirichlet_group_.span(), group, kNoDirichletGroup});
 }
 
-std::vector<float> ParticleSet::planes_in_initial_order(const Exec& exec, const DeviceBuffer<float>& planes,
-                                                        int components) const {
-  DeviceBuffer<float> ordered(backend_, planes.size());
-  for_each(exec, count_, ScatterPlanes<float>{planes.span(), ordered.span(), id_.span(), components});
+template <class T>
+std::vector<T> ParticleSet::planes_in_initial_order(const Exec& exec, const DeviceBuffer<T>& planes,
+                                                    int components) const {
+  DeviceBuffer<T> ordered(backend_, planes.size());
+  for_each(exec, count_, ScatterPlanes<T>{planes.span(), ordered.span(), id_.span(), components});
   return ordered.to_host(exec.stream);
 }
 
@@ -233,6 +234,9 @@ std::vector<float> ParticleSet::deformation_gradients_in_initial_order(const Exe
 }
 std::vector<float> ParticleSet::affine_velocities_in_initial_order(const Exec& exec) const {
   return planes_in_initial_order(exec, C_, 9);
+}
+std::vector<std::int32_t> ParticleSet::domains_in_initial_order(const Exec& exec) const {
+  return domain_.size() > 0 ? planes_in_initial_order(exec, domain_, 1) : std::vector<std::int32_t>{};
 }
 
 }  // namespace romp::mpm

@@ -72,9 +72,12 @@ class ParticleSet {
   std::vector<float> velocities_in_initial_order(const Exec& exec) const;
   std::vector<float> deformation_gradients_in_initial_order(const Exec& exec) const;
   std::vector<float> affine_velocities_in_initial_order(const Exec& exec) const;
+  // Each particle's domain index (kNoDomain once released); empty when no particle had one.
+  std::vector<std::int32_t> domains_in_initial_order(const Exec& exec) const;
 
  private:
-  std::vector<float> planes_in_initial_order(const Exec& exec, const DeviceBuffer<float>& planes, int components) const;
+  template <class T>
+  std::vector<T> planes_in_initial_order(const Exec& exec, const DeviceBuffer<T>& planes, int components) const;
 
   Backend backend_;
   Index count_;

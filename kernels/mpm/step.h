@@ -56,12 +56,11 @@ struct RigidMotion {
 
 enum class RegionShape : std::int32_t { Box = 0, Sphere = 1 };
 
-// An acceleration applied to the particles inside a region (a poke), active for this substep.
-struct RegionLoad {
+// A fixed region of space: an axis-aligned box or a sphere.
+struct Region {
   RegionShape shape = RegionShape::Box;
   Vec3<float> center;
   Vec3<float> half_extents;  // box half sizes; a sphere's radius is half_extents[0]
-  Vec3<float> acceleration;  // m/s^2
 
   ROMP_HD bool contains(const Vec3<float>& x) const {
     const Vec3<float> d = x - center;
@@ -69,6 +68,11 @@ struct RegionLoad {
     return math::abs(d[0]) <= half_extents[0] && math::abs(d[1]) <= half_extents[1] &&
            math::abs(d[2]) <= half_extents[2];
   }
+};
+
+// An acceleration applied to the particles inside a region (a poke), active for this substep.
+struct RegionLoad : Region {
+  Vec3<float> acceleration;  // m/s^2
 };
 
 // Stages that can fail, and the slot each records its first offending particle or node in.
