@@ -25,10 +25,11 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
   check_particle_domains(config_, init);
   if (!init.domains.empty()) domains_.emplace(exec.backend, init.domains);
   released_.assign(config_.dirichlet.size(), false);
-  // The implicit operator linearises the ordinary particles' forces on grid nodes; domain particles
-  // and enriched corners are not in it yet.
-  ROMP_CHECK(!(domains_ && config_.integrator == Integrator::Implicit),
-             "solver.integrator = \"implicit\" does not cover objects with domains yet; use the explicit integrator");
+  // The implicit operator covers grid nodes, through which domain particles act; enriched corners,
+  // degrees of freedom of their own, are not in it yet.
+  ROMP_CHECK(!(enriching() && config_.integrator == Integrator::Implicit),
+             "solver.integrator = \"implicit\" with particle domains needs solver.enrichment = 0: enriched "
+             "corners are not in the implicit operator yet");
   if (config_.integrator == Integrator::Implicit) implicit_.emplace(exec.backend, config_.implicit);
   auto neural = std::make_unique<NeuralMaterials>(exec, config_.materials, particles_.count());
   // The implicit operator needs ∂P/∂F of every material, which a learned law does not provide here.
@@ -96,7 +97,7 @@ void FullOrderSim::substep(float dt) {
     timed([&] { mpm::corners_to_grid(exec_, domains, grid, step); });
   }
   timed([&] { mpm::update_grid(exec_, grid, step); });
-  if (implicit_) timed([&] { implicit_->solve(exec_, particles, grid, step, steps_ + 1); });
+  if (implicit_) timed([&] { implicit_->solve(exec_, particles, domains, grid, step, steps_ + 1); });
   timed([&] { mpm::grid_to_particle(exec_, particles, grid, step); });
   if (domains_) {
     timed([&] { mpm::grid_to_corners(exec_, domains, grid, step); });

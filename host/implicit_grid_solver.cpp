@@ -44,7 +44,9 @@ ImplicitGridSolver::ImplicitGridSolver(Backend backend, ImplicitSolverConfig con
                          config_.tolerance, config_.max_iterations));
 }
 
-void ImplicitGridSolver::reserve(Index particles, Index unknowns) {
+void ImplicitGridSolver::reserve(Index particles, Index unknowns, Index corners) {
+  for (DeviceBuffer<float>* corner_vector : {&corner_displacement_, &corner_force_})
+    ensure_size(*corner_vector, backend_, 3 * corners);
   ensure_size(stiffness_, backend_, particles);
   for (DeviceBuffer<float>* vector : {&x_, &r_, &z_, &p_, &q_, &inverse_diagonal_})
     ensure_size(*vector, backend_, unknowns);
@@ -52,10 +54,10 @@ void ImplicitGridSolver::reserve(Index particles, Index unknowns) {
 }
 
 ImplicitSolveReport ImplicitGridSolver::solve(const Exec& exec, const mpm::ParticleView& particles,
-                                              const mpm::GridView& grid, const mpm::StepParams& step,
-                                              std::int64_t step_number) {
+                                              const mpm::DomainView& domains, const mpm::GridView& grid,
+                                              const mpm::StepParams& step, std::int64_t step_number) {
   const Index unknowns = 3 * grid.blocks * mpm::kNodesPerBlock;
-  reserve(particles.count, unknowns);
+  reserve(particles.count, unknowns, domains.corners);
   const Span<float> x = x_.span().subspan(0, unknowns), r = r_.span().subspan(0, unknowns),
                     z = z_.span().subspan(0, unknowns), p = p_.span().subspan(0, unknowns),
                     q = q_.span().subspan(0, unknowns), inverse_diagonal = inverse_diagonal_.span().subspan(0, unknowns);
@@ -64,7 +66,14 @@ ImplicitSolveReport ImplicitGridSolver::solve(const Exec& exec, const mpm::Parti
 
   mpm::linearise_particles(exec, particles, step, stiffness);
   mpm::find_projectors(exec, grid, step, projector);
-  const mpm::ImplicitSystem system{particles, grid, step, stiffness, projector};
+  const mpm::ImplicitSystem system{particles,
+                                   grid,
+                                   step,
+                                   stiffness,
+                                   projector,
+                                   domains,
+                                   Vec3Planes<float>(corner_displacement_.data(), domains.corners),
+                                   Vec3Planes<float>(corner_force_.data(), domains.corners)};
   mpm::jacobi_inverse_diagonal(exec, system, inverse_diagonal);
 
   // x₀ = v*, r₀ = S M v* − A v*.

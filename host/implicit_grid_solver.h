@@ -10,6 +10,7 @@
 #include "kernels/core/exec.h"
 #include "kernels/core/vector_ops.h"
 #include "kernels/material/material.h"
+#include "kernels/mpm/particle_domains.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/mpm/step.h"
@@ -39,21 +40,23 @@ class ImplicitGridSolver {
   // colliders again. CG starts from v* and has converged when ‖r‖ ≤ tolerance · max(‖S M v*‖, ‖r₀‖)
   // (the initial residual stands in when no momentum sits on the unknowns, e.g. a body at rest
   // beside a moving collider). When it has not converged after max_iterations, or breaks down, the
-  // grid keeps v*, and a warning names `step`, the substep being computed.
-  ImplicitSolveReport solve(const Exec& exec, const mpm::ParticleView& particles, const mpm::GridView& grid,
-                            const mpm::StepParams& step, std::int64_t step_number);
+  // grid keeps v*, and a warning names `step`, the substep being computed. `domains` (corners == 0
+  // when there are none) must have no enriched corners.
+  ImplicitSolveReport solve(const Exec& exec, const mpm::ParticleView& particles, const mpm::DomainView& domains,
+                            const mpm::GridView& grid, const mpm::StepParams& step, std::int64_t step_number);
 
   const ImplicitSolveTotals& totals() const { return totals_; }
 
  private:
-  void reserve(Index particles, Index unknowns);
+  void reserve(Index particles, Index unknowns, Index corners);
 
   Backend backend_;
   ImplicitSolverConfig config_;
   DeviceBuffer<material::PrincipalStiffness<float>> stiffness_;
   // 3 planes of active nodes each: iterate, residual, preconditioned residual, search direction,
-  // operator times direction, free-component mask and inverse diagonal.
+  // operator times direction and inverse diagonal; 9 planes: the projectors.
   DeviceBuffer<float> x_, r_, z_, p_, q_, inverse_diagonal_, projector_;
+  DeviceBuffer<float> corner_displacement_, corner_force_;  // 3 planes of domain corners each
   DotProduct dot_;
   ImplicitSolveTotals totals_;
 };

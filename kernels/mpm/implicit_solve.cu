@@ -2,6 +2,7 @@
 // V⁰ δP Fᵀ ∇w with atomics, as P2G scatters its forces; nodes finish the products. See implicit_solve.h.
 #include "kernels/mpm/implicit_solve.h"
 
+#include <cstdint>
 #include <string>
 
 #include "kernels/core/error.h"
@@ -123,7 +124,8 @@ struct StiffnessPass {
 
   ROMP_HD void operator()(Index p) const {
     const ParticleView& particles = system.particles;
-    if (particles.dirichlet_group[p] != kNoDirichletGroup) return;
+    // Domain particles reach the grid through their corners (the domain passes below).
+    if (particles.dirichlet_group[p] != kNoDirichletGroup || particles.has_domain(p)) return;
     body(ParticleStencil(particles, system.grid, p), particles.F.load(p), system.stiffness[p],
          system.step.dt * system.step.dt * particles.volume0[p]);
   }
@@ -147,6 +149,156 @@ struct StiffnessDiagonal {
         }
   }
 };
+
+// The domain passes: corner displacements gathered from the grid, each domain particle's stiffness
+// scattered to its corners, the corners' forces scattered to the grid (implicit_solve.h).
+struct GatherCornerDisplacements {
+  DomainView domains;
+  GridView grid;
+  Span<const float> x;
+  Vec3Planes<float> displacement;
+  Index nodes;
+
+  ROMP_HD void operator()(Index c) const {
+    Vec3<float> u = Vec3<float>::zero();
+    if (domains.dirichlet_group[c] == kNoDirichletGroup) {
+      const QuadraticStencil<float> stencil(domains.x.load(c), grid.inverse_dx);
+      const StencilNodes nodes_of(stencil, grid.table);
+      const Vec3Planes<const float> x_nodes = node_vectors(x, nodes);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          for (int k = 0; k < 3; ++k) u += stencil.weight(i, j, k) * x_nodes.load(nodes_of.node(i, j, k));
+    }
+    displacement.store(c, u);
+  }
+};
+
+// Whether p is a domain particle whose stiffness enters through its corners.
+ROMP_HD_INLINE bool stiff_domain_particle(const ParticleView& particles, Index p) {
+  return particles.has_domain(p) && particles.dirichlet_group[p] == kNoDirichletGroup;
+}
+
+struct DomainStiffness {
+  ImplicitSystem system;
+
+  ROMP_HD void operator()(Index p) const {
+    const ParticleView& particles = system.particles;
+    if (!stiff_domain_particle(particles, p)) return;
+    const DomainView& domains = system.domains;
+    const Index d = particles.domain[p];
+    Mat3<float> dF = Mat3<float>::zero();
+    for (int a = 0; a < kDomainCorners; ++a) {
+      const Index entry = kDomainCorners * d + a;
+      dF += Mat3<float>::outer(system.corner_displacement.load(domains.corner[entry]), domains.gradient.load(entry));
+    }
+    const float scale = system.step.dt * system.step.dt * particles.volume0[p];
+    const Mat3<float> stress = scale * system.stiffness[p].apply(dF);
+    for (int a = 0; a < kDomainCorners; ++a) {
+      const Index entry = kDomainCorners * d + a;
+      atomic_add(system.corner_force, domains.corner[entry], stress * domains.gradient.load(entry));
+    }
+  }
+};
+
+struct ScatterCornerForces {
+  DomainView domains;
+  GridView grid;
+  Vec3Planes<const float> force;
+  Span<float> out;
+  Index nodes;
+
+  ROMP_HD void operator()(Index c) const {
+    if (domains.dirichlet_group[c] != kNoDirichletGroup) return;
+    const QuadraticStencil<float> stencil(domains.x.load(c), grid.inverse_dx);
+    const StencilNodes nodes_of(stencil, grid.table);
+    const Vec3<float> f = force.load(c);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k) atomic_add(node_vectors(out, nodes), nodes_of.node(i, j, k), stencil.weight(i, j, k) * f);
+  }
+};
+
+// Σ_p Δt² V⁰ δF_a : δP(δF_a), δF_a = e_a G_jᵀ, for a domain particle: G_j = Σ_α w_j(x_α) g_α sums
+// over its corners' stencils first (the corners share nodes, and Σ_α g_α = 0 makes the sum, not the
+// single terms, what the particle feels). The union of the stencils fits a box of 5 nodes per axis
+// unless the domain spans more than 3 cells; then each corner's term counts on its own, a cruder
+// diagonal that is still positive, which is all the preconditioner needs.
+struct DomainStiffnessDiagonal {
+  ImplicitSystem system;
+  Span<float> diagonal;
+  Index nodes;
+
+  static constexpr int kBox = 5;
+
+  ROMP_HD void add(Index node, const Vec3<float>& G, const PrincipalStiffness<float>& stiffness, float scale) const {
+    Vec3<float> entries;
+    for (int a = 0; a < 3; ++a)
+      entries[a] = scale * dot(stiffness.apply(Mat3<float>::outer(Vec3<float>::unit(a), G)).row(a), G);
+    atomic_add(node_vectors(diagonal, nodes), node, entries);
+  }
+
+  ROMP_HD void operator()(Index p) const {
+    const ParticleView& particles = system.particles;
+    if (!stiff_domain_particle(particles, p)) return;
+    const DomainView& domains = system.domains;
+    const GridView& grid = system.grid;
+    const Index d = particles.domain[p];
+    const PrincipalStiffness<float>& stiffness = system.stiffness[p];
+    const float scale = system.step.dt * system.step.dt * particles.volume0[p];
+    int low[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, high[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+    for (int a = 0; a < kDomainCorners; ++a) {
+      const QuadraticStencil<float> stencil(domains.x.load(domains.corner[kDomainCorners * d + a]), grid.inverse_dx);
+      for (int axis = 0; axis < 3; ++axis) {
+        low[axis] = math::min(low[axis], stencil.base[axis]);
+        high[axis] = math::max(high[axis], stencil.base[axis]);
+      }
+    }
+    const bool boxed = high[0] - low[0] <= kBox - 3 && high[1] - low[1] <= kBox - 3 && high[2] - low[2] <= kBox - 3;
+    Vec3<float> G[kBox * kBox * kBox];
+    Index node_of[kBox * kBox * kBox];
+    if (boxed)
+      for (int b = 0; b < kBox * kBox * kBox; ++b) G[b] = Vec3<float>::zero(), node_of[b] = -1;
+    for (int a = 0; a < kDomainCorners; ++a) {
+      const Index entry = kDomainCorners * d + a;
+      const Index c = domains.corner[entry];
+      if (domains.dirichlet_group[c] != kNoDirichletGroup) continue;
+      const Vec3<float> g = domains.gradient.load(entry);
+      const QuadraticStencil<float> stencil(domains.x.load(c), grid.inverse_dx);
+      const StencilNodes nodes_of(stencil, grid.table);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          for (int k = 0; k < 3; ++k) {
+            const Vec3<float> term = stencil.weight(i, j, k) * g;
+            if (!boxed) {
+              add(nodes_of.node(i, j, k), term, stiffness, scale);
+              continue;
+            }
+            const int b = ((stencil.base[0] + i - low[0]) * kBox + (stencil.base[1] + j - low[1])) * kBox +
+                          (stencil.base[2] + k - low[2]);
+            G[b] += term;
+            node_of[b] = nodes_of.node(i, j, k);
+          }
+    }
+    if (boxed)
+      for (int b = 0; b < kBox * kBox * kBox; ++b)
+        if (node_of[b] >= 0) add(node_of[b], G[b], stiffness, scale);
+  }
+};
+
+// Δt² K x of the domain particles, added to `out`.
+void add_domain_stiffness(const Exec& exec, const ImplicitSystem& system, Span<const float> x, Span<float> out) {
+  const DomainView& domains = system.domains;
+  if (domains.corners == 0) return;
+  const Index nodes = system.grid.blocks * kNodesPerBlock;
+  for_each(exec, domains.corners,
+           GatherCornerDisplacements{domains, system.grid, x, system.corner_displacement, nodes});
+  for (int a = 0; a < 3; ++a)
+    memory::fill_zero(system.corner_force.data() + a * domains.corners, exec.backend,
+                      std::size_t(domains.corners) * sizeof(float), exec.stream);
+  for_each(exec, system.particles.count, DomainStiffness{system});
+  for_each(exec, domains.corners,
+           ScatterCornerForces{domains, system.grid, Vec3Planes<const float>(system.corner_force), out, nodes});
+}
 
 struct InvertDiagonal {
   GridView grid;
@@ -232,8 +384,10 @@ void apply_operator(const Exec& exec, const ImplicitSystem& system, Span<const f
   check_node_vector(out, system.grid, "the operator's output");
   const Index nodes = system.grid.blocks * kNodesPerBlock;
   memory::fill_zero(out.data(), exec.backend, out.size() * sizeof(float), exec.stream);
-  if (with_stiffness)
+  if (with_stiffness) {
     for_each(exec, system.particles.count, StiffnessPass<ApplyStiffness>{system, ApplyStiffness{x, out, nodes}});
+    add_domain_stiffness(exec, system, x, out);
+  }
   for_each(exec, nodes, FinishOperator{system.grid, system.projector, x, out, nodes});
 }
 
@@ -257,6 +411,8 @@ void jacobi_inverse_diagonal(const Exec& exec, const ImplicitSystem& system, Spa
   memory::fill_zero(inverse_diagonal.data(), exec.backend, inverse_diagonal.size() * sizeof(float), exec.stream);
   for_each(exec, system.particles.count,
            StiffnessPass<StiffnessDiagonal>{system, StiffnessDiagonal{inverse_diagonal, nodes}});
+  if (system.domains.corners > 0)
+    for_each(exec, system.particles.count, DomainStiffnessDiagonal{system, inverse_diagonal, nodes});
   for_each(exec, nodes, InvertDiagonal{system.grid, inverse_diagonal, nodes});
 }
 

@@ -36,6 +36,15 @@
 //     solve turns towards the wall is stopped there like any other.
 // Massless nodes are not unknowns either (no particle reads them): S = 0 there.
 //
+// Particles with domains (particle_domains.h) move their corners, and the corners follow the grid:
+// a grid displacement x moves corner c by u_c = Σ_j w_j(x_c) x_j, changes the particle's F (updated
+// in the reference configuration) by δF = Σ_α u_{c_α} g_αᵀ, and the force change at its corners,
+// V⁰ δP g_α, reaches node j with the same weights: (K x)_j = Σ_c w_j(x_c) Σ_{(p, α): c_α = c} V⁰ δP_p g_α,
+// again symmetric and semidefinite. Corners of Dirichlet groups follow their motion, not the grid,
+// and take part in neither direction (as Dirichlet particles add no stiffness). Enriched corners,
+// degrees of freedom of their own, are not in the operator: FullOrderSim runs the implicit step
+// with domains only without enrichment.
+//
 // Vectors are flat: 3 planes of the grid's active nodes (stride grid.blocks · kNodesPerBlock); the
 // projectors are 9 such planes.
 #pragma once
@@ -44,6 +53,7 @@
 #include "kernels/core/span.h"
 #include "kernels/material/material.h"
 #include "kernels/math/mat3_planes.h"
+#include "kernels/mpm/particle_domains.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/mpm/step.h"
@@ -57,6 +67,8 @@ struct ImplicitSystem {
   StepParams step;
   Span<const material::PrincipalStiffness<float>> stiffness;  // per particle, at its F
   Mat3Planes<const float> projector;  // per node: S_i, onto the directions that are unknown
+  DomainView domains;                 // corners == 0 without particle domains
+  Vec3Planes<float> corner_displacement, corner_force;  // scratch, one entry per corner
 };
 
 // The semidefinite stiffness of each particle at its current (elastic) F; zero for Dirichlet particles.
