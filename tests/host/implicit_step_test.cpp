@@ -64,27 +64,28 @@ double highest_energy(FullOrderSim& sim, const mpm::ParticleInit& init, double t
   return highest;
 }
 
-// The stiff cube with particle domains (no enrichment): their forces reach the implicit operator
-// through the corners (implicit_solve.h).
-mpm::ParticleInit stiff_cube_with_domains() {
-  return test::lattice_box_with_domains({0.4375f, 0.15f, 0.4375f}, {0.5625f, 0.275f, 0.5625f}, kDx, 2, kDensity);
-}
-
-FullOrderConfig domain_drop_config(Integrator integrator, float dt) {
-  FullOrderConfig config = drop_config(integrator, dt);
-  config.enrichment_threshold = 0.0f;
-  return config;
+// The stiff cube, with particle domains (no enrichment: their forces reach the implicit operator
+// through the corners, implicit_solve.h) or without, and its drop configuration at kStepRatio times
+// the explicit limit.
+struct StiffDrop {
+  mpm::ParticleInit init;
+  FullOrderConfig config;
+};
+StiffDrop stiff_drop(Integrator integrator, bool domains) {
+  StiffDrop drop{domains ? test::lattice_box_with_domains({0.4375f, 0.15f, 0.4375f}, {0.5625f, 0.275f, 0.5625f},
+                                                          kDx, 2, kDensity)
+                         : stiff_cube(),
+                 drop_config(integrator, kStepRatio * explicit_step_limit())};
+  drop.config.enrichment_threshold = 0.0f;
+  return drop;
 }
 
 class ImplicitStepOfBodies : public ::testing::TestWithParam<bool> {};  // with domains or without
 INSTANTIATE_TEST_SUITE_P(Domains, ImplicitStepOfBodies, ::testing::Values(false, true));
 
 TEST_P(ImplicitStepOfBodies, StiffCubeBouncesStablyBeyondTheExplicitStepLimit) {
-  const bool domains = GetParam();
-  const mpm::ParticleInit init = domains ? stiff_cube_with_domains() : stiff_cube();
-  const float dt = kStepRatio * explicit_step_limit();
-  FullOrderSim sim(test::exec(), domains ? domain_drop_config(Integrator::Implicit, dt) : drop_config(Integrator::Implicit, dt),
-                   init);
+  const auto [init, config] = stiff_drop(Integrator::Implicit, GetParam());
+  FullOrderSim sim(test::exec(), config, init);
   const double initial = mechanical_energy(sim, init);
   float lowest = 0.0f;
   // The fall takes 0.11 s; the rest is contact with the floor (measured without domains: 34 CG
@@ -104,11 +105,8 @@ TEST_P(ImplicitStepOfBodies, StiffCubeBouncesStablyBeyondTheExplicitStepLimit) {
 }
 
 TEST_P(ImplicitStepOfBodies, ExplicitStepBlowsUpAtTheSameStep) {
-  const bool domains = GetParam();
-  const mpm::ParticleInit init = domains ? stiff_cube_with_domains() : stiff_cube();
-  const float dt = kStepRatio * explicit_step_limit();
-  FullOrderSim sim(test::exec(), domains ? domain_drop_config(Integrator::Explicit, dt) : drop_config(Integrator::Explicit, dt),
-                   init);
+  const auto [init, config] = stiff_drop(Integrator::Explicit, GetParam());
+  FullOrderSim sim(test::exec(), config, init);
   const double initial = mechanical_energy(sim, init);
   float lowest = 0.0f;
   try {
