@@ -29,7 +29,8 @@ class NeuralMaterials {
   bool empty() const { return laws_.empty(); }
 
   // P = elastic(F) of every particle of a neural material, in the particles' current order, for
-  // StepParams::host_stress; the entries of other particles are 0. Valid until the next call.
+  // StepParams::host_stress; the entries of other particles are left as they were (P2G reads them
+  // only for neural materials). Valid until the next call.
   Mat3Planes<const float> evaluate_stress(const Exec& exec, const mpm::ParticleView& particles);
 
   // F ← plastic(F) for the particles of neural materials outside Dirichlet groups (the rule of
