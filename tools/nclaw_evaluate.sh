@@ -6,7 +6,8 @@
 #
 #   tools/nclaw_evaluate.sh MATERIAL LAW.h5 OUTPUT_DIR [romp options, e.g. --device cpu]
 #
-# MATERIAL is jelly, sand, plasticine or water. Ground-truth runs already in OUTPUT_DIR are reused.
+# MATERIAL is jelly, sand, plasticine or water. The ground-truth runs go to OUTPUT_DIR/truth and are
+# reused by later evaluations into the same folder; the law's runs go to OUTPUT_DIR/<law file stem>.
 # Prints one markdown row per task: (a) long, (b) velocities (the mean over the sweep's three members),
 # (c) shape, (d) inclined; a learned run that stops non-finite is reported as such, not as a number.
 set -uo pipefail
@@ -18,7 +19,9 @@ out="$3"
 shift 3
 options=("$@")
 scenes="$root/scenes/nclaw/generalization"
-mkdir -p "$out"
+truth_dir="$out/truth"
+learned_dir="$out/$(basename "$law" .h5)"
+mkdir -p "$truth_dir" "$learned_dir"
 
 # mean_mse RUN REFERENCE: the mean MSE romp compare prints, or nothing.
 mean_mse() {
@@ -37,28 +40,29 @@ echo "| task | scene | mean position MSE (m^2) |"
 echo "|---|---|---|"
 for task in long shape inclined; do
   scene="$scenes/${task}_${material}.toml"
-  if ! run_once "$scene" "$out/${task}_truth.h5"; then
-    echo "| $task | ${task}_${material}.toml | ground truth failed: see $out/${task}_truth.log |"
+  truth="$truth_dir/$task.h5" learned="$learned_dir/$task.h5"
+  if ! run_once "$scene" "$truth"; then
+    echo "| $task | ${task}_${material}.toml | ground truth failed: see ${truth%.h5}.log |"
     continue
   fi
-  if run_once "$scene" "$out/${task}_learned.h5" --law "$material=$law"; then
-    echo "| $task | ${task}_${material}.toml | $(mean_mse "$out/${task}_learned.h5" "$out/${task}_truth.h5") |"
+  if run_once "$scene" "$learned" --law "$material=$law"; then
+    echo "| $task | ${task}_${material}.toml | $(mean_mse "$learned" "$truth") |"
   else
-    echo "| $task | ${task}_${material}.toml | learned run stopped: $(grep -o 'non-finite.*' "$out/${task}_learned.log" | head -1) |"
+    echo "| $task | ${task}_${material}.toml | learned run stopped: $(grep -o 'non-finite.*' "${learned%.h5}.log" | head -1) |"
   fi
 done
 
 scene="$scenes/velocities_${material}.toml"
-"$romp" "${options[@]}" sweep "$scene" -o "$out/velocities_truth" > "$out/velocities_truth.log" 2>&1
-"$romp" "${options[@]}" sweep "$scene" -o "$out/velocities_learned" --law "$material=$law" \
-  > "$out/velocities_learned.log" 2>&1
+"$romp" "${options[@]}" sweep "$scene" -o "$truth_dir/velocities" > "$truth_dir/velocities.log" 2>&1
+"$romp" "${options[@]}" sweep "$scene" -o "$learned_dir/velocities" --law "$material=$law" \
+  > "$learned_dir/velocities.log" 2>&1
 values=()
-for truth in "$out"/velocities_truth/member_*.h5; do
-  learned="$out/velocities_learned/$(basename "$truth")"
+for truth in "$truth_dir"/velocities/member_*.h5; do
+  learned="$learned_dir/velocities/$(basename "$truth")"
   if [ -f "$learned" ]; then values+=("$(mean_mse "$learned" "$truth")"); else values+=("failed"); fi
 done
 if [[ " ${values[*]} " == *" failed "* ]] || [ "${#values[@]}" -eq 0 ]; then
-  echo "| velocities | velocities_${material}.toml | members: ${values[*]:-none} (see $out/velocities_learned/logs) |"
+  echo "| velocities | velocities_${material}.toml | members: ${values[*]:-none} (see $learned_dir/velocities/logs) |"
 else
   mean="$(printf '%s\n' "${values[@]}" | awk '{ s += $1 } END { printf "%.3g", s / NR }')"
   echo "| velocities | velocities_${material}.toml (mean of ${#values[@]}: ${values[*]}) | $mean |"
