@@ -65,7 +65,10 @@ int run_oracle(const nclaw::GroundTruth& truth, const LearnLawOptions& options) 
   nn::SystemIdentificationOptions identification;
   identification.epochs = options.epochs;
   identification.steps = options.steps;
-  const nclaw::IdentifiedMaterial found = nclaw::identify_material(truth, identification);
+  const nclaw::IdentifiedMaterial found =
+      nclaw::identify_material(truth, identification, [&](int64_t epoch, double loss, double youngs, double poisson) {
+        spdlog::info("epoch {}/{}: loss {:.6g}  E = {:.6g} Pa, nu = {:.6g}", epoch, options.epochs, loss, youngs, poisson);
+      });
   io::write_file_atomically(
       options.output,
       fmt::format("# romp learn-law --method system-identification {}: fixed corotated fitted through the "

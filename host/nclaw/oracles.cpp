@@ -64,14 +64,18 @@ nn::LawFile fit_labeled_oracle(const GroundTruth& truth, const std::string& traj
   return result;
 }
 
-IdentifiedMaterial identify_material(const GroundTruth& truth, const nn::SystemIdentificationOptions& options) {
+IdentifiedMaterial identify_material(const GroundTruth& truth, const nn::SystemIdentificationOptions& options,
+                                     const IdentificationProgress& progress) {
   const scene::MaterialSpecification& material = only_material(truth, "system identification");
   ROMP_CHECK(material.model == material::MaterialModel::FixedCorotated,
              "system identification fits fixed corotated elasticity (the jelly); the ground truth's material '" +
                  material.name + "' is another model");
   nn::SystemIdentification fit(truth.config, truth.trajectory, options);
   IdentifiedMaterial identified;
-  while (!fit.finished()) identified.loss.push_back(fit.train_epoch());
+  while (!fit.finished()) {
+    identified.loss.push_back(fit.train_epoch());
+    if (progress) progress(fit.epochs_done(), identified.loss.back(), fit.youngs(), fit.poisson());
+  }
   identified.youngs_modulus = fit.youngs();
   identified.poissons_ratio = fit.poisson();
   const torch::Tensor youngs = torch::tensor(float(identified.youngs_modulus)),

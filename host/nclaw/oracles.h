@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "host/nclaw/ground_truth.h"
@@ -31,6 +32,9 @@ struct IdentifiedMaterial {
 // "sys-id": Young's modulus and Poisson's ratio of fixed corotated elasticity learned through the
 // same differentiable simulation and loss as the neural laws. Throws romp::Error unless the
 // trajectory's one material is fixed corotated (the jelly), the only model this oracle fits.
-IdentifiedMaterial identify_material(const GroundTruth& truth, const nn::SystemIdentificationOptions& options);
+// `progress`, when given, hears each epoch's loss and the parameters after its step.
+using IdentificationProgress = std::function<void(int64_t epoch, double loss, double youngs, double poisson)>;
+IdentifiedMaterial identify_material(const GroundTruth& truth, const nn::SystemIdentificationOptions& options,
+                                     const IdentificationProgress& progress = {});
 
 }  // namespace romp::nclaw
