@@ -43,6 +43,12 @@ CLI::App* add_learn_law_command(CLI::App& app, LearnLawOptions& options) {
   command->add_option("--pair-stride", options.pair_stride, "labeled: pairs from every this many frames")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  command->add_option("--initial-youngs", options.initial_youngs, "system-identification: first guess of E (Pa)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command->add_option("--initial-poisson", options.initial_poisson, "system-identification: first guess of nu")
+      ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
   return command;
 }
 
@@ -65,6 +71,8 @@ int run_oracle(const nclaw::GroundTruth& truth, const LearnLawOptions& options) 
   nn::SystemIdentificationOptions identification;
   identification.epochs = options.epochs;
   identification.steps = options.steps;
+  identification.initial_youngs = options.initial_youngs;
+  identification.initial_poisson = options.initial_poisson;
   const nclaw::IdentifiedMaterial found =
       nclaw::identify_material(truth, identification, [&](int64_t epoch, double loss, double youngs, double poisson) {
         spdlog::info("epoch {}/{}: loss {:.6g}  E = {:.6g} Pa, nu = {:.6g}", epoch, options.epochs, loss, youngs, poisson);
@@ -72,10 +80,11 @@ int run_oracle(const nclaw::GroundTruth& truth, const LearnLawOptions& options) 
   io::write_file_atomically(
       options.output,
       fmt::format("# romp learn-law --method system-identification {}: fixed corotated fitted through the "
-                  "differentiable\n# simulation in {} epochs; reconstruction error {:.6g} m^2 (mean position MSE "
+                  "differentiable\n# simulation in {} epochs from E = {} Pa, nu = {}; reconstruction error {:.6g} m^2 (mean position MSE "
                   "every {} frames of a free rollout)\n[materials.identified]\nmodel = \"fixed-corotated\"\n"
                   "density = {}\nyoungs_modulus = {:.8g}\npoissons_ratio = {:.8g}\n",
-                  options.trajectory, options.epochs, found.reconstruction_error, nn::kEvaluationFrameStride,
+                  options.trajectory, options.epochs, options.initial_youngs, options.initial_poisson,
+                  found.reconstruction_error, nn::kEvaluationFrameStride,
                   truth.materials.front().density, found.youngs_modulus, found.poissons_ratio));
   spdlog::info("wrote {}: E = {:.6g} Pa, nu = {:.6g}; reconstruction error {:.4g} m^2", options.output,
                found.youngs_modulus, found.poissons_ratio, found.reconstruction_error);

@@ -22,6 +22,7 @@ struct LearnLawOptions {
   // "system-identification" a scene material table (.toml) with the identified E and ν.
   std::string method = "motion";
   int64_t pair_stride = 10;  // labeled: constitutive pairs from every this many frames
+  double initial_youngs = 3e4, initial_poisson = 0.3;  // system-identification: the starting guess
 };
 
 // Declares the subcommand and its options on `app`.
