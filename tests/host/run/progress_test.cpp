@@ -1,6 +1,9 @@
 // The progress line, the stage table and MPI rank detection.
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 #include "host/run/process_rank.h"
 #include "host/run/progress.h"
 #include "host/run/stage_table.h"
@@ -23,6 +26,20 @@ TEST(StageTable, ListsSharesAndTotal) {
   EXPECT_NE(table.find("p2g"), std::string::npos);
   EXPECT_NE(table.find("75.0%"), std::string::npos);
   EXPECT_NE(table.find("total"), std::string::npos);
+}
+
+TEST(StageTable, ColumnsStayAlignedForLongStageNames) {
+  const std::string table = stage_table({{"p2g", 3.0}, {"neural_plasticity", 1.0}});
+  // Every line's seconds column ends at the same place.
+  std::vector<std::size_t> ends;
+  for (std::size_t start = 0, end; (end = table.find('\n', start)) != std::string::npos; start = end + 1) {
+    const std::string line = table.substr(start, end - start);
+    const std::size_t dot = line.find('.');
+    if (dot != std::string::npos) ends.push_back(dot);
+  }
+  ASSERT_EQ(ends.size(), 3u);
+  EXPECT_EQ(ends[0], ends[1]);
+  EXPECT_EQ(ends[1], ends[2]);
 }
 
 TEST(ProcessRank, ReadsOpenMpiAndPmiAndDefaultsToOneProcess) {
