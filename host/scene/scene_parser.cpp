@@ -67,7 +67,8 @@ Mat3<double> rotation_from_y(const Vec3<double>& to) {
 }
 
 // The absolute path of the existing file that `key` names (relative to the scene's folder unless
-// absolute), which must end in one of `extensions`; `what` names it in errors.
+// absolute), which must end in one of `extensions`; `what` names it in errors. The resolved scene
+// records the absolute path.
 std::string read_input_file(TableReader& t, const std::string& key, const fs::path& folder, const std::string& what,
                             const std::vector<std::string>& extensions) {
   const std::string file = t.required_string(key);
@@ -78,6 +79,7 @@ std::string read_input_file(TableReader& t, const std::string& key, const fs::pa
   const std::string extension = absolute.extension().string();
   if (std::find(extensions.begin(), extensions.end(), extension) == extensions.end())
     t.fail(key, fmt::format("a {} file must end in {}", what, fmt::join(extensions, " or ")));
+  t.resolve_as(key, absolute.string());
   return absolute.string();
 }
 

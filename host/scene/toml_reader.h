@@ -80,6 +80,11 @@ class TableReader {
   // The keys of a table whose keys are names the user chooses (e.g. [materials.<name>]).
   std::vector<std::string> keys() const;
 
+  // Records `value` as what `key` resolved to, in place of the text read: a file name made absolute,
+  // so that the resolved scene (stored in outputs, written for sweep members) reads the same from
+  // any folder.
+  void resolve_as(const std::string& key, const std::string& value) { out_->insert_or_assign(key, value); }
+
   // Throws if the table holds a key no read asked for, listing the keys allowed here.
   void finish() const;
 

@@ -131,6 +131,16 @@ struct StiffnessPass {
   }
 };
 
+// Adds scale δF_a : δP(δF_a), δF_a = e_a cᵀ, to each component a of `node`'s diagonal entries: one
+// particle's share of K_ii when c is the vector through which node i moves its F.
+ROMP_HD_INLINE void add_diagonal_share(Span<float> diagonal, Index nodes, Index node, const Vec3<float>& c,
+                                       const PrincipalStiffness<float>& stiffness, float scale) {
+  Vec3<float> entries;
+  for (int a = 0; a < 3; ++a)
+    entries[a] = scale * dot(stiffness.apply(Mat3<float>::outer(Vec3<float>::unit(a), c)).row(a), c);
+  atomic_add(node_vectors(diagonal, nodes), node, entries);
+}
+
 // Σ_p Δt² V⁰_p δF_a : δP(δF_a) into each node's components, δF_a = e_a (Fᵀ ∇w)ᵀ.
 struct StiffnessDiagonal {
   Span<float> diagonal;
@@ -140,13 +150,9 @@ struct StiffnessDiagonal {
                           float scale) const {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k) {
-          const Vec3<float> c = transpose(F) * s.weight_gradient(i, j, k);
-          Vec3<float> entries;
-          for (int a = 0; a < 3; ++a)
-            entries[a] = scale * dot(stiffness.apply(Mat3<float>::outer(Vec3<float>::unit(a), c)).row(a), c);
-          atomic_add(node_vectors(diagonal, nodes), s.nodes.node(i, j, k), entries);
-        }
+        for (int k = 0; k < 3; ++k)
+          add_diagonal_share(diagonal, nodes, s.nodes.node(i, j, k), transpose(F) * s.weight_gradient(i, j, k),
+                             stiffness, scale);
   }
 };
 
@@ -230,13 +236,6 @@ struct DomainStiffnessDiagonal {
 
   static constexpr int kBox = 5;
 
-  ROMP_HD void add(Index node, const Vec3<float>& G, const PrincipalStiffness<float>& stiffness, float scale) const {
-    Vec3<float> entries;
-    for (int a = 0; a < 3; ++a)
-      entries[a] = scale * dot(stiffness.apply(Mat3<float>::outer(Vec3<float>::unit(a), G)).row(a), G);
-    atomic_add(node_vectors(diagonal, nodes), node, entries);
-  }
-
   ROMP_HD void operator()(Index p) const {
     const ParticleView& particles = system.particles;
     if (!stiff_domain_particle(particles, p)) return;
@@ -256,8 +255,12 @@ struct DomainStiffnessDiagonal {
     const bool boxed = high[0] - low[0] <= kBox - 3 && high[1] - low[1] <= kBox - 3 && high[2] - low[2] <= kBox - 3;
     Vec3<float> G[kBox * kBox * kBox];
     Index node_of[kBox * kBox * kBox];
-    if (boxed)
-      for (int b = 0; b < kBox * kBox * kBox; ++b) G[b] = Vec3<float>::zero(), node_of[b] = -1;
+    if (boxed) {
+      for (int b = 0; b < kBox * kBox * kBox; ++b) {
+        G[b] = Vec3<float>::zero();
+        node_of[b] = -1;
+      }
+    }
     for (int a = 0; a < kDomainCorners; ++a) {
       const Index entry = kDomainCorners * d + a;
       const Index c = domains.corner[entry];
@@ -270,7 +273,7 @@ struct DomainStiffnessDiagonal {
           for (int k = 0; k < 3; ++k) {
             const Vec3<float> term = stencil.weight(i, j, k) * g;
             if (!boxed) {
-              add(nodes_of.node(i, j, k), term, stiffness, scale);
+              add_diagonal_share(diagonal, nodes, nodes_of.node(i, j, k), term, stiffness, scale);
               continue;
             }
             const int b = ((stencil.base[0] + i - low[0]) * kBox + (stencil.base[1] + j - low[1])) * kBox +
@@ -281,7 +284,7 @@ struct DomainStiffnessDiagonal {
     }
     if (boxed)
       for (int b = 0; b < kBox * kBox * kBox; ++b)
-        if (node_of[b] >= 0) add(node_of[b], G[b], stiffness, scale);
+        if (node_of[b] >= 0) add_diagonal_share(diagonal, nodes, node_of[b], G[b], stiffness, scale);
   }
 };
 

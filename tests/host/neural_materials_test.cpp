@@ -173,6 +173,10 @@ TEST(NeuralMaterials, SceneMaterialCarriesTheLawAndItsRestStiffness) {
   EXPECT_EQ(material.density, 500.0f);
   // scaled_laws measured the modulus in float; the scene measures it in double.
   EXPECT_NEAR(material.params.lambda + 2.0f * material.params.mu, 2e5f, 2e3f);
+  // The resolved scene (what snapshots store and sweep members are written from) names the law by its
+  // absolute path, so it reads the same from another folder.
+  const scene::Scene elsewhere = scene::parse_scene(scene.resolved_text, "/nonexistent/elsewhere.toml");
+  EXPECT_EQ(elsewhere.materials.at(0).neural_law, folder.file("law.h5"));
 }
 
 // `romp run --law body=law.h5`: the analytic material of a scene replaced by a learned law, its
