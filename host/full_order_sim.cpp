@@ -25,11 +25,6 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
   check_particle_domains(config_, init);
   if (!init.domains.empty()) domains_.emplace(exec.backend, init.domains);
   released_.assign(config_.dirichlet.size(), false);
-  // The implicit operator covers grid nodes, through which domain particles act; enriched corners,
-  // degrees of freedom of their own, are not in it yet.
-  ROMP_CHECK(!(enriching() && config_.integrator == Integrator::Implicit),
-             "solver.integrator = \"implicit\" with particle domains needs solver.enrichment = 0: enriched "
-             "corners are not in the implicit operator yet");
   if (config_.integrator == Integrator::Implicit) implicit_.emplace(exec.backend, config_.implicit);
   auto neural = std::make_unique<NeuralMaterials>(exec, config_.materials, particles_.count());
   // The implicit operator needs ∂P/∂F of every material, which a learned law does not provide here.

@@ -22,19 +22,6 @@ void ensure_size(DeviceBuffer<T>& buffer, Backend backend, Index size) {
   if (buffer.size() < size) buffer = DeviceBuffer<T>(backend, size + size / 2);
 }
 
-// Copies the velocity planes of the grid (stride: its node capacity) to a flat vector of 3 planes
-// of active nodes, or back.
-void copy_velocity(const Exec& exec, const mpm::GridView& grid, Span<float> flat, bool to_grid) {
-  const Index nodes = grid.blocks * mpm::kNodesPerBlock;
-  for (int a = 0; a < 3; ++a) {
-    float* plane = grid.velocity.data() + a * grid.velocity.count();
-    float* part = flat.data() + a * nodes;
-    const std::size_t bytes = std::size_t(nodes) * sizeof(float);
-    if (to_grid) memory::copy(plane, exec.backend, part, exec.backend, bytes, exec.stream);
-    else memory::copy(part, exec.backend, plane, exec.backend, bytes, exec.stream);
-  }
-}
-
 }  // namespace
 
 ImplicitGridSolver::ImplicitGridSolver(Backend backend, ImplicitSolverConfig config)
@@ -56,7 +43,7 @@ void ImplicitGridSolver::reserve(Index particles, Index unknowns, Index corners)
 ImplicitSolveReport ImplicitGridSolver::solve(const Exec& exec, const mpm::ParticleView& particles,
                                               const mpm::DomainView& domains, const mpm::GridView& grid,
                                               const mpm::StepParams& step, std::int64_t step_number) {
-  const Index unknowns = 3 * grid.blocks * mpm::kNodesPerBlock;
+  const Index unknowns = 3 * (grid.blocks * mpm::kNodesPerBlock + domains.corners);
   reserve(particles.count, unknowns, domains.corners);
   const Span<float> x = x_.span().subspan(0, unknowns), r = r_.span().subspan(0, unknowns),
                     z = z_.span().subspan(0, unknowns), p = p_.span().subspan(0, unknowns),
@@ -65,7 +52,7 @@ ImplicitSolveReport ImplicitGridSolver::solve(const Exec& exec, const mpm::Parti
   const Span<material::PrincipalStiffness<float>> stiffness = stiffness_.span().subspan(0, particles.count);
 
   mpm::linearise_particles(exec, particles, step, stiffness);
-  mpm::find_projectors(exec, grid, step, projector);
+  mpm::find_projectors(exec, grid, domains, step, projector);
   const mpm::ImplicitSystem system{particles,
                                    grid,
                                    step,
@@ -77,7 +64,7 @@ ImplicitSolveReport ImplicitGridSolver::solve(const Exec& exec, const mpm::Parti
   mpm::jacobi_inverse_diagonal(exec, system, inverse_diagonal);
 
   // x₀ = v*, r₀ = S M v* − A v*.
-  copy_velocity(exec, grid, x, false);
+  mpm::load_explicit_velocities(exec, system, x);
   mpm::apply_mass(exec, system, x, r);
   const double momentum_norm = std::sqrt(dot_(exec, r, r));
   mpm::apply_implicit_operator(exec, system, x, q);
@@ -118,8 +105,7 @@ ImplicitSolveReport ImplicitGridSolver::solve(const Exec& exec, const mpm::Parti
   totals_.iterations += iterations;
   totals_.most_iterations = std::max(totals_.most_iterations, iterations);
   if (report.converged) {
-    copy_velocity(exec, grid, x, true);
-    mpm::resolve_grid_boundaries(exec, grid, step);
+    mpm::store_velocities(exec, system, x);
   } else {
     ++totals_.not_converged;
     spdlog::warn("step {}: the implicit solve did not converge ({} CG iterations{}, relative residual {:.3g}, "

@@ -35,13 +35,13 @@ class ImplicitGridSolver {
  public:
   ImplicitGridSolver(Backend backend, ImplicitSolverConfig config);
 
-  // Replaces the grid's velocities v* (after the grid update) by v, the solution on the free
-  // components (implicit_solve.h) with the held ones kept at v*, then applies the walls and
-  // colliders again. CG starts from v* and has converged when ‖r‖ ≤ tolerance · max(‖S M v*‖, ‖r₀‖)
+  // Replaces the velocities v* of the grid (after the grid update) and of the enriched domain
+  // corners (after corners_to_grid) by v, the solution on the free components (implicit_solve.h)
+  // with the held ones kept at v*, then applies the walls and colliders again. CG starts from v* and has converged when ‖r‖ ≤ tolerance · max(‖S M v*‖, ‖r₀‖)
   // (the initial residual stands in when no momentum sits on the unknowns, e.g. a body at rest
   // beside a moving collider). When it has not converged after max_iterations, or breaks down, the
-  // grid keeps v*, and a warning names `step`, the substep being computed. `domains` (corners == 0
-  // when there are none) must have no enriched corners.
+  // grid keeps v*, and a warning names `step`, the substep being computed. `domains` has corners == 0
+  // when there are none.
   ImplicitSolveReport solve(const Exec& exec, const mpm::ParticleView& particles, const mpm::DomainView& domains,
                             const mpm::GridView& grid, const mpm::StepParams& step, std::int64_t step_number);
 
@@ -53,8 +53,8 @@ class ImplicitGridSolver {
   Backend backend_;
   ImplicitSolverConfig config_;
   DeviceBuffer<material::PrincipalStiffness<float>> stiffness_;
-  // 3 planes of active nodes each: iterate, residual, preconditioned residual, search direction,
-  // operator times direction and inverse diagonal; 9 planes: the projectors.
+  // 3 planes of active nodes and domain corners each: iterate, residual, preconditioned residual,
+  // search direction, operator times direction and inverse diagonal; 9 planes: the projectors.
   DeviceBuffer<float> x_, r_, z_, p_, q_, inverse_diagonal_, projector_;
   DeviceBuffer<float> corner_displacement_, corner_force_;  // 3 planes of domain corners each
   DotProduct dot_;

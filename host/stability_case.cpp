@@ -213,6 +213,7 @@ StabilityOutcome run_stability_case(const Exec& exec, const StabilityCase& c, co
     }
     outcome.simulated_seconds = sim.time();
     outcome.substeps = sim.steps();
+    outcome.largest_enriched_share = sim.enrichment_statistics().largest_share;
   } catch (const NonFiniteError& error) {
     outcome.status = StabilityOutcome::Status::NonFinite;
     outcome.message = error.what();

@@ -25,8 +25,8 @@ struct StabilityCase {
   double poissons_ratio = 0.3;
   StabilityScenario scenario = StabilityScenario::FreeFallBounce;
   bool enriched = false;        // particle domains with enrichment at 0.6, else plain particles
-  // Implicit: the Newton step at cfl kImplicitStabilityCfl (plain particles only: the implicit
-  // operator does not cover domains yet).
+  // Implicit: the Newton step at cfl kImplicitStabilityCfl (with domains, enriched corners are
+  // unknowns of the solve beside the grid nodes).
   bool implicit = false;
 
   // "fixed-corotated/E1e+06/nu0.30/free-fall-bounce/plain/explicit", the case's name in reports.
@@ -48,6 +48,8 @@ struct StabilityOutcome {
   // The largest total energy (kinetic, elastic, gravitational) after the case's reference instant
   // over the energy at that instant: t = 0, or the release for the cases driven by a press or grips.
   double energy_ratio = 0.0;
+  // The largest share of domain particles that enriched their corners in one substep (0 when plain).
+  double largest_enriched_share = 0.0;
   std::string message;  // the error of a run that stopped
 
   // Ended finite with energy_ratio <= kStabilityEnergyBound, or stopped early with a message (a

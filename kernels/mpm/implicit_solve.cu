@@ -36,12 +36,13 @@ struct ParticleStencil {
   }
 };
 
-// The flat vectors of implicit_solve.h: component a of node n at a · nodes + n.
-ROMP_HD_INLINE Vec3Planes<float> node_vectors(Span<float> flat, Index nodes) {
-  return Vec3Planes<float>(flat.data(), nodes);
+// The flat vectors of implicit_solve.h: component a of entry n at a · entries + n (nodes first, then
+// the domain corners).
+ROMP_HD_INLINE Vec3Planes<float> entry_vectors(Span<float> flat, Index entries) {
+  return Vec3Planes<float>(flat.data(), entries);
 }
-ROMP_HD_INLINE Vec3Planes<const float> node_vectors(Span<const float> flat, Index nodes) {
-  return Vec3Planes<const float>(flat.data(), nodes);
+ROMP_HD_INLINE Vec3Planes<const float> entry_vectors(Span<const float> flat, Index entries) {
+  return Vec3Planes<const float>(flat.data(), entries);
 }
 
 struct LineariseParticles {
@@ -58,6 +59,14 @@ struct LineariseParticles {
     stiffness[p] = material::definite_stiffness(step.materials[particles.material[p]], particles.F.load(p));
   }
 };
+
+// The mass of entry n: the node's, or an enriched corner's; 0 for a corner bound to the grid or to
+// a Dirichlet group (not an unknown).
+ROMP_HD_INLINE float entry_mass(const GridView& grid, const DomainView& domains, Index nodes, Index n) {
+  if (n < nodes) return grid.mass[n];
+  const Index c = n - nodes;
+  return domains.enriched[c] && domains.dirichlet_group[c] == kNoDirichletGroup ? domains.mass[c] : 0.0f;
+}
 
 // The directions a node's velocity is held along, as an orthonormal basis, and the projector onto
 // the rest.
@@ -83,33 +92,41 @@ struct HeldDirections {
   }
 };
 
+// Holds what the walls and colliders fix for an unknown at `position` whose explicit velocity is v.
+ROMP_HD_INLINE void hold_boundaries(const StepParams& step, const Vec3<float>& position, float dx, const Vec3<float>& v,
+                                    HeldDirections& held) {
+  for (Index c = 0; c < step.colliders.size(); ++c) {
+    const ColliderState& collider = step.colliders[c];
+    const SignedDistance sd = signed_distance(collider, position);
+    if (sd.distance >= 0.0f) continue;
+    const bool separating = dot(v - collider.velocity_at(position), sd.normal) > 0.0f;
+    if (collider.contact == ContactType::Sticky) held.hold_all();
+    else if (!(collider.contact == ContactType::Separate && separating)) held.hold(sd.normal);
+  }
+  for (int a = 0; a < 3; ++a) {
+    const bool low = near_low_wall(step, position[a], dx), high = near_high_wall(step, a, position[a], dx);
+    if (!(low || high)) continue;
+    if (step.wall_contact == ContactType::Sticky) held.hold_all();
+    // Held unless v* moves away from the wall (inward normal +e_a on the low face, −e_a on the high one).
+    if ((low && v[a] <= 0.0f) || (high && v[a] >= 0.0f)) held.hold(Vec3<float>::unit(a));
+  }
+}
+
 struct FindProjectors {
   GridView grid;
+  DomainView domains;
   StepParams step;
   Mat3Planes<float> projector;
 
   ROMP_HD void operator()(Index n) const {
+    const Index nodes = grid.blocks * kNodesPerBlock;
     HeldDirections held;
-    if (grid.mass[n] > 0.0f) {
-      const GridNode node(grid, n);
-      const Vec3<float> v = grid.velocity.load(n);
-      for (Index c = 0; c < step.colliders.size(); ++c) {
-        const ColliderState& collider = step.colliders[c];
-        const SignedDistance sd = signed_distance(collider, node.position);
-        if (sd.distance >= 0.0f) continue;
-        const bool separating = dot(v - collider.velocity_at(node.position), sd.normal) > 0.0f;
-        if (collider.contact == ContactType::Sticky) held.hold_all();
-        else if (!(collider.contact == ContactType::Separate && separating)) held.hold(sd.normal);
-      }
-      for (int a = 0; a < 3; ++a) {
-        const bool low = node.on_low_wall(step, a), high = node.on_high_wall(step, a);
-        if (!(low || high)) continue;
-        if (step.wall_contact == ContactType::Sticky) held.hold_all();
-        // Held unless v* moves away from the wall (inward normal +e_a on the low face, −e_a on the high one).
-        if ((low && v[a] <= 0.0f) || (high && v[a] >= 0.0f)) held.hold(Vec3<float>::unit(a));
-      }
-    } else {
+    if (entry_mass(grid, domains, nodes, n) <= 0.0f) {
       held.hold_all();
+    } else if (n < nodes) {
+      hold_boundaries(step, GridNode(grid, n).position, grid.dx, grid.velocity.load(n), held);
+    } else {
+      hold_boundaries(step, domains.x.load(n - nodes), grid.dx, domains.v.load(n - nodes), held);
     }
     projector.store(n, held.projector());
   }
@@ -133,25 +150,25 @@ struct StiffnessPass {
 
 // Adds scale δF_a : δP(δF_a), δF_a = e_a cᵀ, to each component a of `node`'s diagonal entries: one
 // particle's share of K_ii when c is the vector through which node i moves its F.
-ROMP_HD_INLINE void add_diagonal_share(Span<float> diagonal, Index nodes, Index node, const Vec3<float>& c,
+ROMP_HD_INLINE void add_diagonal_share(Span<float> diagonal, Index entries, Index node, const Vec3<float>& c,
                                        const PrincipalStiffness<float>& stiffness, float scale) {
-  Vec3<float> entries;
+  Vec3<float> share;
   for (int a = 0; a < 3; ++a)
-    entries[a] = scale * dot(stiffness.apply(Mat3<float>::outer(Vec3<float>::unit(a), c)).row(a), c);
-  atomic_add(node_vectors(diagonal, nodes), node, entries);
+    share[a] = scale * dot(stiffness.apply(Mat3<float>::outer(Vec3<float>::unit(a), c)).row(a), c);
+  atomic_add(entry_vectors(diagonal, entries), node, share);
 }
 
 // Σ_p Δt² V⁰_p δF_a : δP(δF_a) into each node's components, δF_a = e_a (Fᵀ ∇w)ᵀ.
 struct StiffnessDiagonal {
   Span<float> diagonal;
-  Index nodes;
+  Index entries;
 
   ROMP_HD void operator()(const ParticleStencil& s, const Mat3<float>& F, const PrincipalStiffness<float>& stiffness,
                           float scale) const {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         for (int k = 0; k < 3; ++k)
-          add_diagonal_share(diagonal, nodes, s.nodes.node(i, j, k), transpose(F) * s.weight_gradient(i, j, k),
+          add_diagonal_share(diagonal, entries, s.nodes.node(i, j, k), transpose(F) * s.weight_gradient(i, j, k),
                              stiffness, scale);
   }
 };
@@ -167,13 +184,17 @@ struct GatherCornerDisplacements {
 
   ROMP_HD void operator()(Index c) const {
     Vec3<float> u = Vec3<float>::zero();
-    if (domains.dirichlet_group[c] == kNoDirichletGroup) {
+    const Vec3Planes<const float> x_entries = entry_vectors(x, nodes + domains.corners);
+    if (domains.dirichlet_group[c] != kNoDirichletGroup) {
+      // Follows its group's motion: no displacement from the unknowns.
+    } else if (domains.enriched[c]) {
+      u = x_entries.load(nodes + c);
+    } else {
       const QuadraticStencil<float> stencil(domains.x.load(c), grid.inverse_dx);
       const StencilNodes nodes_of(stencil, grid.table);
-      const Vec3Planes<const float> x_nodes = node_vectors(x, nodes);
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
-          for (int k = 0; k < 3; ++k) u += stencil.weight(i, j, k) * x_nodes.load(nodes_of.node(i, j, k));
+          for (int k = 0; k < 3; ++k) u += stencil.weight(i, j, k) * x_entries.load(nodes_of.node(i, j, k));
     }
     displacement.store(c, u);
   }
@@ -215,24 +236,29 @@ struct ScatterCornerForces {
 
   ROMP_HD void operator()(Index c) const {
     if (domains.dirichlet_group[c] != kNoDirichletGroup) return;
+    const Vec3Planes<float> out_entries = entry_vectors(out, nodes + domains.corners);
+    const Vec3<float> f = force.load(c);
+    if (domains.enriched[c]) {
+      out_entries.store(nodes + c, out_entries.load(nodes + c) + f);  // this thread's entry alone
+      return;
+    }
     const QuadraticStencil<float> stencil(domains.x.load(c), grid.inverse_dx);
     const StencilNodes nodes_of(stencil, grid.table);
-    const Vec3<float> f = force.load(c);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k) atomic_add(node_vectors(out, nodes), nodes_of.node(i, j, k), stencil.weight(i, j, k) * f);
+        for (int k = 0; k < 3; ++k) atomic_add(out_entries, nodes_of.node(i, j, k), stencil.weight(i, j, k) * f);
   }
 };
 
 // Σ_p Δt² V⁰ δF_a : δP(δF_a), δF_a = e_a G_jᵀ, for a domain particle: G_j = Σ_α w_j(x_α) g_α sums
-// over its corners' stencils first (the corners share nodes, and Σ_α g_α = 0 makes the sum, not the
-// single terms, what the particle feels). The union of the stencils fits a box of 5 nodes per axis
-// unless the domain spans more than 3 cells; then each corner's term counts on its own, a cruder
-// diagonal that is still positive, which is all the preconditioner needs.
+// over its grid-bound corners' stencils first (the corners share nodes, and Σ_α g_α = 0 makes the
+// sum, not the single terms, what the particle feels); an enriched corner's entry has G = g_α. The
+// union of the stencils fits a box of 5 nodes per axis unless the domain spans more than 3 cells;
+// then each corner's term counts on its own, a cruder diagonal that is still positive, which is all
+// the preconditioner needs.
 struct DomainStiffnessDiagonal {
   ImplicitSystem system;
   Span<float> diagonal;
-  Index nodes;
 
   static constexpr int kBox = 5;
 
@@ -244,6 +270,7 @@ struct DomainStiffnessDiagonal {
     const Index d = particles.domain[p];
     const PrincipalStiffness<float>& stiffness = system.stiffness[p];
     const float scale = system.step.dt * system.step.dt * particles.volume0[p];
+    const Index nodes = system.nodes(), entries = system.entries();
     int low[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, high[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
     for (int a = 0; a < kDomainCorners; ++a) {
       const QuadraticStencil<float> stencil(domains.x.load(domains.corner[kDomainCorners * d + a]), grid.inverse_dx);
@@ -266,6 +293,10 @@ struct DomainStiffnessDiagonal {
       const Index c = domains.corner[entry];
       if (domains.dirichlet_group[c] != kNoDirichletGroup) continue;
       const Vec3<float> g = domains.gradient.load(entry);
+      if (domains.enriched[c]) {
+        add_diagonal_share(diagonal, entries, nodes + c, g, stiffness, scale);
+        continue;
+      }
       const QuadraticStencil<float> stencil(domains.x.load(c), grid.inverse_dx);
       const StencilNodes nodes_of(stencil, grid.table);
       for (int i = 0; i < 3; ++i)
@@ -273,7 +304,7 @@ struct DomainStiffnessDiagonal {
           for (int k = 0; k < 3; ++k) {
             const Vec3<float> term = stencil.weight(i, j, k) * g;
             if (!boxed) {
-              add_diagonal_share(diagonal, nodes, nodes_of.node(i, j, k), term, stiffness, scale);
+              add_diagonal_share(diagonal, entries, nodes_of.node(i, j, k), term, stiffness, scale);
               continue;
             }
             const int b = ((stencil.base[0] + i - low[0]) * kBox + (stencil.base[1] + j - low[1])) * kBox +
@@ -284,7 +315,7 @@ struct DomainStiffnessDiagonal {
     }
     if (boxed)
       for (int b = 0; b < kBox * kBox * kBox; ++b)
-        if (node_of[b] >= 0) add_diagonal_share(diagonal, nodes, node_of[b], G[b], stiffness, scale);
+        if (node_of[b] >= 0) add_diagonal_share(diagonal, entries, node_of[b], G[b], stiffness, scale);
   }
 };
 
@@ -292,7 +323,7 @@ struct DomainStiffnessDiagonal {
 void add_domain_stiffness(const Exec& exec, const ImplicitSystem& system, Span<const float> x, Span<float> out) {
   const DomainView& domains = system.domains;
   if (domains.corners == 0) return;
-  const Index nodes = system.grid.blocks * kNodesPerBlock;
+  const Index nodes = system.nodes();
   for_each(exec, domains.corners,
            GatherCornerDisplacements{domains, system.grid, x, system.corner_displacement, nodes});
   for (int a = 0; a < 3; ++a)
@@ -304,15 +335,15 @@ void add_domain_stiffness(const Exec& exec, const ImplicitSystem& system, Span<c
 }
 
 struct InvertDiagonal {
-  GridView grid;
+  ImplicitSystem system;
   Span<float> diagonal;  // Δt² K_ii on entry, its inverse with the mass on exit
-  Index nodes;
 
   ROMP_HD void operator()(Index n) const {
+    const float mass = entry_mass(system.grid, system.domains, system.nodes(), n);
     for (int a = 0; a < 3; ++a) {
-      const Index k = a * nodes + n;
+      const Index k = a * system.entries() + n;
       // Mass > 0 and K_ii ≥ 0, so the sum is > 0.
-      diagonal[k] = grid.mass[n] > 0.0f ? 1.0f / (grid.mass[n] + diagonal[k]) : 0.0f;
+      diagonal[k] = mass > 0.0f ? 1.0f / (mass + diagonal[k]) : 0.0f;
     }
   }
 };
@@ -321,11 +352,11 @@ struct ApplyPreconditioner {
   Mat3Planes<const float> projector;
   Span<const float> inverse_diagonal, r;
   Span<float> z;
-  Index nodes;
+  Index entries;
 
   ROMP_HD void operator()(Index n) const {
-    const Vec3<float> d = node_vectors(inverse_diagonal, nodes).load(n), residual = node_vectors(r, nodes).load(n);
-    node_vectors(z, nodes).store(n, projector.load(n) * Vec3<float>(d[0] * residual[0], d[1] * residual[1],
+    const Vec3<float> d = entry_vectors(inverse_diagonal, entries).load(n), residual = entry_vectors(r, entries).load(n);
+    entry_vectors(z, entries).store(n, projector.load(n) * Vec3<float>(d[0] * residual[0], d[1] * residual[1],
                                                                     d[2] * residual[2]));
   }
 };
@@ -334,11 +365,11 @@ struct ApplyPreconditioner {
 struct ApplyStiffness {
   Span<const float> x;
   Span<float> Kx;
-  Index nodes;
+  Index entries;
 
   ROMP_HD void operator()(const ParticleStencil& s, const Mat3<float>& F, const PrincipalStiffness<float>& stiffness,
                           float scale) const {
-    const Vec3Planes<const float> x_nodes = node_vectors(x, nodes);
+    const Vec3Planes<const float> x_nodes = entry_vectors(x, entries);
     Mat3<float> displacement_gradient = Mat3<float>::zero();
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
@@ -348,50 +379,71 @@ struct ApplyStiffness {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         for (int k = 0; k < 3; ++k)
-          atomic_add(node_vectors(Kx, nodes), s.nodes.node(i, j, k), force_moment * s.weight_gradient(i, j, k));
+          atomic_add(entry_vectors(Kx, entries), s.nodes.node(i, j, k), force_moment * s.weight_gradient(i, j, k));
   }
 };
 
 struct FinishOperator {
-  GridView grid;
-  Mat3Planes<const float> projector;
+  ImplicitSystem system;
   Span<const float> x;
   Span<float> Ax;  // Δt² K x on entry (zero for the mass alone)
-  Index nodes;
 
   ROMP_HD void operator()(Index n) const {
-    const Vec3Planes<float> out = node_vectors(Ax, nodes);
-    out.store(n, projector.load(n) * (grid.mass[n] * node_vectors(x, nodes).load(n) + out.load(n)));
+    const Index entries = system.entries();
+    const Vec3Planes<float> out = entry_vectors(Ax, entries);
+    const float mass = entry_mass(system.grid, system.domains, system.nodes(), n);
+    out.store(n, system.projector.load(n) * (mass * entry_vectors(x, entries).load(n) + out.load(n)));
   }
 };
 
-struct ResolveGridBoundaries {
-  GridView grid;
-  StepParams step;
+// v* of the unknowns into the flat vector (0 elsewhere).
+struct LoadVelocities {
+  ImplicitSystem system;
+  Span<float> flat;
 
   ROMP_HD void operator()(Index n) const {
-    if (grid.mass[n] <= 0.0f) return;
-    grid.velocity.store(n, resolve_boundaries(step, GridNode(grid, n), grid.velocity.load(n)));
+    const Index nodes = system.nodes();
+    Vec3<float> v = Vec3<float>::zero();
+    if (entry_mass(system.grid, system.domains, nodes, n) > 0.0f)
+      v = n < nodes ? system.grid.velocity.load(n) : system.domains.v.load(n - nodes);
+    entry_vectors(flat, system.entries()).store(n, v);
   }
 };
 
-void check_node_vector(Span<const float> v, const GridView& grid, const char* what) {
-  ROMP_CHECK(v.size() == 3 * grid.blocks * kNodesPerBlock,
-             std::string(what) + " must hold 3 components per active grid node");
+// The unknowns' solution back to the grid and the enriched corners, through the walls and colliders.
+struct StoreVelocities {
+  ImplicitSystem system;
+  Span<const float> flat;
+
+  ROMP_HD void operator()(Index n) const {
+    const GridView& grid = system.grid;
+    const Index nodes = system.nodes();
+    if (entry_mass(grid, system.domains, nodes, n) <= 0.0f) return;
+    const Vec3<float> v = entry_vectors(flat, system.entries()).load(n);
+    if (n < nodes)
+      grid.velocity.store(n, resolve_boundaries(system.step, GridNode(grid, n), v));
+    else
+      system.domains.v.store(n - nodes, resolve_boundaries(system.step, system.domains.x.load(n - nodes), grid.dx, v));
+  }
+};
+
+void check_entry_vector(Span<const float> v, const ImplicitSystem& system, const char* what) {
+  ROMP_CHECK(v.size() == 3 * system.entries(),
+             std::string(what) + " must hold 3 components per active grid node and domain corner");
 }
 
 // S (M x + Δt² K x), or S M x without the stiffness.
 void apply_operator(const Exec& exec, const ImplicitSystem& system, Span<const float> x, Span<float> out,
                     bool with_stiffness) {
-  check_node_vector(x, system.grid, "x");
-  check_node_vector(out, system.grid, "the operator's output");
-  const Index nodes = system.grid.blocks * kNodesPerBlock;
+  check_entry_vector(x, system, "x");
+  check_entry_vector(out, system, "the operator's output");
   memory::fill_zero(out.data(), exec.backend, out.size() * sizeof(float), exec.stream);
   if (with_stiffness) {
-    for_each(exec, system.particles.count, StiffnessPass<ApplyStiffness>{system, ApplyStiffness{x, out, nodes}});
+    for_each(exec, system.particles.count,
+             StiffnessPass<ApplyStiffness>{system, ApplyStiffness{x, out, system.entries()}});
     add_domain_stiffness(exec, system, x, out);
   }
-  for_each(exec, nodes, FinishOperator{system.grid, system.projector, x, out, nodes});
+  for_each(exec, system.entries(), FinishOperator{system, x, out});
 }
 
 }  // namespace
@@ -402,29 +454,29 @@ void linearise_particles(const Exec& exec, const ParticleView& particles, const 
   for_each(exec, particles.count, LineariseParticles{particles, step, stiffness});
 }
 
-void find_projectors(const Exec& exec, const GridView& grid, const StepParams& step, Mat3Planes<float> projector) {
-  const Index nodes = grid.blocks * kNodesPerBlock;
-  ROMP_CHECK(projector.count() == nodes, "find_projectors: one projector per active grid node");
-  for_each(exec, nodes, FindProjectors{grid, step, projector});
+void find_projectors(const Exec& exec, const GridView& grid, const DomainView& domains, const StepParams& step,
+                     Mat3Planes<float> projector) {
+  const Index entries = grid.blocks * kNodesPerBlock + domains.corners;
+  ROMP_CHECK(projector.count() == entries, "find_projectors: one projector per active grid node and domain corner");
+  for_each(exec, entries, FindProjectors{grid, domains, step, projector});
 }
 
 void jacobi_inverse_diagonal(const Exec& exec, const ImplicitSystem& system, Span<float> inverse_diagonal) {
-  check_node_vector(inverse_diagonal, system.grid, "inverse_diagonal");
-  const Index nodes = system.grid.blocks * kNodesPerBlock;
+  check_entry_vector(inverse_diagonal, system, "inverse_diagonal");
   memory::fill_zero(inverse_diagonal.data(), exec.backend, inverse_diagonal.size() * sizeof(float), exec.stream);
   for_each(exec, system.particles.count,
-           StiffnessPass<StiffnessDiagonal>{system, StiffnessDiagonal{inverse_diagonal, nodes}});
+           StiffnessPass<StiffnessDiagonal>{system, StiffnessDiagonal{inverse_diagonal, system.entries()}});
   if (system.domains.corners > 0)
-    for_each(exec, system.particles.count, DomainStiffnessDiagonal{system, inverse_diagonal, nodes});
-  for_each(exec, nodes, InvertDiagonal{system.grid, inverse_diagonal, nodes});
+    for_each(exec, system.particles.count, DomainStiffnessDiagonal{system, inverse_diagonal});
+  for_each(exec, system.entries(), InvertDiagonal{system, inverse_diagonal});
 }
 
 void apply_preconditioner(const Exec& exec, const ImplicitSystem& system, Span<const float> inverse_diagonal,
                           Span<const float> r, Span<float> z) {
   for (const Span<const float> v : {inverse_diagonal, r, Span<const float>(z)})
-    check_node_vector(v, system.grid, "a preconditioner vector");
-  const Index nodes = system.grid.blocks * kNodesPerBlock;
-  for_each(exec, nodes, ApplyPreconditioner{system.projector, inverse_diagonal, r, z, nodes});
+    check_entry_vector(v, system, "a preconditioner vector");
+  for_each(exec, system.entries(),
+           ApplyPreconditioner{system.projector, inverse_diagonal, r, z, system.entries()});
 }
 
 void apply_implicit_operator(const Exec& exec, const ImplicitSystem& system, Span<const float> x, Span<float> Ax) {
@@ -435,8 +487,14 @@ void apply_mass(const Exec& exec, const ImplicitSystem& system, Span<const float
   apply_operator(exec, system, x, Mx, false);
 }
 
-void resolve_grid_boundaries(const Exec& exec, const GridView& grid, const StepParams& step) {
-  for_each(exec, grid.blocks * kNodesPerBlock, ResolveGridBoundaries{grid, step});
+void load_explicit_velocities(const Exec& exec, const ImplicitSystem& system, Span<float> v) {
+  check_entry_vector(v, system, "the velocity vector");
+  for_each(exec, system.entries(), LoadVelocities{system, v});
+}
+
+void store_velocities(const Exec& exec, const ImplicitSystem& system, Span<const float> v) {
+  check_entry_vector(v, system, "the velocity vector");
+  for_each(exec, system.entries(), StoreVelocities{system, v});
 }
 
 }  // namespace romp::mpm

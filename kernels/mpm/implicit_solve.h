@@ -41,11 +41,17 @@
 // in the reference configuration) by δF = Σ_α u_{c_α} g_αᵀ, and the force change at its corners,
 // V⁰ δP g_α, reaches node j with the same weights: (K x)_j = Σ_c w_j(x_c) Σ_{(p, α): c_α = c} V⁰ δP_p g_α,
 // again symmetric and semidefinite. Corners of Dirichlet groups follow their motion, not the grid,
-// and take part in neither direction (as Dirichlet particles add no stiffness). Enriched corners,
-// degrees of freedom of their own, are not in the operator: FullOrderSim runs the implicit step
-// with domains only without enrichment.
+// and take part in neither direction (as Dirichlet particles add no stiffness). Enriched corners
+// (dynamic enrichment) are unknowns of their own beside the nodes (the paper's Eq. 12 over "grid
+// nodes and enriched corners"): mass m_c (particles_to_corners), v* from corners_to_grid's
+// explicit update, u_c their own entry instead of the interpolated grid displacement, and their
+// force stays at the corner instead of reaching the grid. A transitional particle, with enriched and
+// grid-bound corners, couples both kinds of unknowns; the operator stays symmetric and semidefinite
+// because every unknown moves the particles' F through the same linear map that carries their
+// forces back. Walls and colliders hold directions at an enriched corner by the same rule as at a node.
 //
-// Vectors are flat: 3 planes of the grid's active nodes (stride grid.blocks · kNodesPerBlock); the
+// Vectors are flat: 3 planes of ImplicitSystem::entries() values each, the grid's active nodes
+// first, then one entry per domain corner (an unknown only while enriched, held otherwise); the
 // projectors are 9 such planes.
 #pragma once
 
@@ -69,16 +75,22 @@ struct ImplicitSystem {
   Mat3Planes<const float> projector;  // per node: S_i, onto the directions that are unknown
   DomainView domains;                 // corners == 0 without particle domains
   Vec3Planes<float> corner_displacement, corner_force;  // scratch, one entry per corner
+
+  ROMP_HD Index nodes() const { return grid.blocks * kNodesPerBlock; }
+  // Values per component of the flat vectors: the active nodes, then the domain corners.
+  ROMP_HD Index entries() const { return nodes() + domains.corners; }
 };
 
 // The semidefinite stiffness of each particle at its current (elastic) F; zero for Dirichlet particles.
 void linearise_particles(const Exec& exec, const ParticleView& particles, const StepParams& step,
                          Span<material::PrincipalStiffness<float>> stiffness);
 
-// The projector S_i of every active node as described above, from the grid's mass and v*.
-void find_projectors(const Exec& exec, const GridView& grid, const StepParams& step, Mat3Planes<float> projector);
+// The projector S_i of every entry as described above, from the masses and v* of the grid and of
+// the enriched corners (load_explicit_velocities). `projector` holds nodes + corners entries.
+void find_projectors(const Exec& exec, const GridView& grid, const DomainView& domains, const StepParams& step,
+                     Mat3Planes<float> projector);
 
-// The inverse of diag(M + Δt² K) on nodes with mass, 0 on the others (Eq. 17-19 for MLS-MPM:
+// The inverse of diag(M + Δt² K) on entries with mass, 0 on the others (Eq. 17-19 for MLS-MPM:
 // K_ii,aa = Σ_p V⁰_p δF_a : δP(δF_a) with δF_a = e_a (F_pᵀ ∇w_ip)ᵀ).
 void jacobi_inverse_diagonal(const Exec& exec, const ImplicitSystem& system, Span<float> inverse_diagonal);
 
@@ -93,7 +105,12 @@ void apply_implicit_operator(const Exec& exec, const ImplicitSystem& system, Spa
 // Mx = S M x, the right-hand side S M v* for x = v*.
 void apply_mass(const Exec& exec, const ImplicitSystem& system, Span<const float> x, Span<float> Mx);
 
-// Runs the walls and colliders of the grid update again on the grid's velocities (see above).
-void resolve_grid_boundaries(const Exec& exec, const GridView& grid, const StepParams& step);
+// v* into a flat vector: the grid's velocities after the grid update and the enriched corners'
+// from corners_to_grid (the other corners' entries are held; they read 0).
+void load_explicit_velocities(const Exec& exec, const ImplicitSystem& system, Span<float> v);
+
+// The solution back to the grid and the enriched corners, each then through the walls and colliders
+// of the grid update again (see above).
+void store_velocities(const Exec& exec, const ImplicitSystem& system, Span<const float> v);
 
 }  // namespace romp::mpm

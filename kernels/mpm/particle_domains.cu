@@ -84,13 +84,22 @@ struct ParticlesToCorners {
 struct CornersToGrid {
   DomainView domains;
   GridView grid;
-  float dt;
+  StepParams step;
 
   ROMP_HD void operator()(Index c) const {
-    if (domains.enriched[c]) return;  // integrated on its own in grid_to_corners
     const float mass = domains.mass[c];
     const Vec3<float> momentum = domains.momentum.load(c);
-    const Vec3<float> impulse = momentum + dt * domains.force.load(c);
+    const Vec3<float> impulse = momentum + step.dt * domains.force.load(c);
+    if (domains.enriched[c]) {
+      // A degree of freedom of its own: explicit Euler on its mass, momentum and force (Eq. 13 at the
+      // corner), then the boundaries, as the grid update does for nodes. The implicit step takes this
+      // v as its v* and replaces it; grid_to_corners reads it.
+      if (domains.dirichlet_group[c] != kNoDirichletGroup) return;  // grid_to_corners moves it rigidly
+      const float inverse_mass = 1.0f / mass;
+      domains.v_old.store(c, inverse_mass * momentum);
+      domains.v.store(c, resolve_boundaries(step, domains.x.load(c), grid.dx, inverse_mass * impulse + step.dt * step.gravity));
+      return;
+    }
     const QuadraticStencil<float> stencil(domains.x.load(c), grid.inverse_dx);
     const StencilNodes nodes(stencil, grid.table);
     for (int i = 0; i < 3; ++i)
@@ -123,13 +132,9 @@ struct GridToCorners {
       moved = motion.displacement(start, step.dt);
     } else {
       if (domains.enriched[c]) {
-        // A degree of freedom of its own: explicit Euler on its mass, momentum and force (Eq. 13 at
-        // the corner), then the boundaries, as the grid update does for nodes.
-        const float inverse_mass = 1.0f / domains.mass[c];
-        const Vec3<float> momentum = domains.momentum.load(c);
-        v_old = inverse_mass * momentum;
-        v = inverse_mass * (momentum + step.dt * domains.force.load(c)) + step.dt * step.gravity;
-        v = resolve_boundaries(step, start, grid.dx, v);
+        // Integrated on its own by corners_to_grid (and the implicit solve, if any).
+        v = domains.v.load(c);
+        v_old = domains.v_old.load(c);
       } else {
         const QuadraticStencil<float> stencil(start, grid.inverse_dx);
         const StencilNodes nodes(stencil, grid.table);
@@ -323,7 +328,7 @@ void particles_to_corners(const Exec& exec, const ParticleView& particles, const
 
 void corners_to_grid(const Exec& exec, const DomainView& domains, const GridView& grid, const StepParams& step) {
   ROMP_CHECK(grid.keeps_old_velocity(), "corners_to_grid needs a grid that keeps the velocity before forces (FLIP)");
-  for_each(exec, domains.corners, CornersToGrid{domains, grid, step.dt});
+  for_each(exec, domains.corners, CornersToGrid{domains, grid, step});
 }
 
 void grid_to_corners(const Exec& exec, const DomainView& domains, const GridView& grid, const StepParams& step) {

@@ -14,8 +14,9 @@
 //                         stays the gradient of the corner positions), x_p = Σ_α ω_αp x_α so a particle
 //                         never leaves its domain.
 // Dynamic enrichment (Sec. 5): mark_enrichment flags the corners of badly deformed particles first;
-// those corners skip corners_to_grid and are integrated as degrees of freedom of their own in
-// grid_to_corners (v = (p + Δt f)/m + Δt g, walls and colliders applied at the corner), the
+// corners_to_grid does not rasterise those but integrates them as degrees of freedom of their own
+// (v = (p + Δt f)/m + Δt g, walls and colliders applied at the corner; the implicit step then
+// solves for them with the grid), and grid_to_corners moves them with that velocity, the
 // interpolation inside the domain being exact in material space. Particles with some flagged
 // corners are transitional and reach both. Flags are recomputed every substep, so corners return to
 // the grid when the metric recovers.

@@ -24,6 +24,7 @@
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
 #include "tests/kernels/svd/svd_test_matrices.h"
+#include "tests/support/grid_vectors.h"
 #include "tests/support/test_exec.h"
 
 namespace romp::mpm {
@@ -37,15 +38,9 @@ constexpr int kParticlesPerAxis = 8;  // 2 per cell: a block of 4 cells, 512 par
 constexpr float kDensity = 1000.0f;
 constexpr double kYoung = 1e6, kPoisson = 0.3;
 
-// `grid` with its block keys copied to `keys` on the host, so that GridNode works there on any backend.
-GridView with_host_block_keys(const Exec& exec, const GridView& grid, std::vector<std::uint64_t>& keys) {
-  keys.resize(grid.blocks);
-  memory::copy(keys.data(), Backend::Cpu, grid.table.block_keys.data(), exec.backend, keys.size() * sizeof(std::uint64_t),
-               exec.stream);
-  GridView host_grid = grid;
-  host_grid.table.block_keys = Span<std::uint64_t>(keys.data(), grid.blocks);
-  return host_grid;
-}
+using test::dot;
+using test::random_free_vector;
+using test::with_host_block_keys;
 
 // Fixed corotated and neo-Hookean particles side by side (alternating), so both the SVD models and
 // the cofactor ones reach the operator through their principal-space stiffness.
@@ -81,7 +76,7 @@ class ImplicitOperatorFixture {
     stiffness_ = DeviceBuffer<material::PrincipalStiffness<float>>(exec_.backend, particles.count);
     projector_ = DeviceBuffer<float>(exec_.backend, 9 * nodes_);
     linearise_particles(exec_, particles, step, stiffness_.span());
-    find_projectors(exec_, grid, step, Mat3Planes<float>(projector_.data(), nodes_));
+    find_projectors(exec_, grid, DomainView{}, step, Mat3Planes<float>(projector_.data(), nodes_));
     system_.particles = particles;
     system_.grid = grid;
     system_.stiffness = stiffness_.span();
@@ -158,12 +153,6 @@ class ImplicitOperatorFixture {
   Index nodes_ = 0;
 };
 
-double dot(const std::vector<float>& a, const std::vector<float>& b) {
-  double sum = 0.0;
-  for (std::size_t k = 0; k < a.size(); ++k) sum += double(a[k]) * double(b[k]);
-  return sum;
-}
-
 // One F per particle: random frames and singular values σ_a uniform in [low_a, high_a].
 std::vector<M> random_deformations(std::uint64_t seed, const Vec3<double>& low, const Vec3<double>& high) {
   test::MatrixSampler sampler(seed);
@@ -172,14 +161,6 @@ std::vector<M> random_deformations(std::uint64_t seed, const Vec3<double>& low, 
     F.push_back(sampler.with_singular_values(sampler.uniform(low[0], high[0]), sampler.uniform(low[1], high[1]),
                                              sampler.uniform(low[2], high[2])));
   return F;
-}
-
-// Standard normal entries on the free components, zero on the others.
-std::vector<float> random_free_vector(const std::vector<float>& free, std::mt19937_64& rng) {
-  std::normal_distribution<float> normal;
-  std::vector<float> x(free.size());
-  for (std::size_t k = 0; k < x.size(); ++k) x[k] = free[k] * normal(rng);
-  return x;
 }
 
 TEST(ImplicitOperator, IsSymmetricAndPositiveDefiniteUnderCompressionAndInversion) {
@@ -330,7 +311,7 @@ TEST(ImplicitUnknowns, WallsAndCollidersHoldTheDirectionsTheyFix) {
     step.wall_contact = contact;
     step.colliders = colliders.span();
     DeviceBuffer<float> projector(exec.backend, 9 * nodes);
-    find_projectors(exec, grid, step, Mat3Planes<float>(projector.data(), nodes));
+    find_projectors(exec, grid, DomainView{}, step, Mat3Planes<float>(projector.data(), nodes));
     const std::vector<float> planes = projector.to_host(exec.stream);
     const Mat3Planes<const float> actual(planes.data(), nodes);
     int wall_nodes = 0, separating = 0, inside = 0;
