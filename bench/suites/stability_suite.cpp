@@ -3,8 +3,9 @@
 // budget; each case is recorded as acceptable or not (ends finite with bounded energy, or stops with
 // a message), with its status, the simulated share of its duration and its energy ratio.
 //
-// --set max_youngs=X limits E to at most X; --set substeps=N and --set seconds=S set each case's
-// budget (default 20000 substeps, 20 s).
+// --set max_youngs=X limits E to at most X; --set implicit=0|1 and --set enriched=0|1 keep one
+// integrator or one particle variant; --set substeps=N and --set seconds=S set each case's budget
+// (default 20000 substeps, 20 s).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -18,6 +19,12 @@ namespace {
 double parameter(const Options& options, const char* name, double fallback) {
   const auto found = options.parameters.find(name);
   return found == options.parameters.end() ? fallback : found->second;
+}
+
+// Whether --set NAME=0|1 (absent: both) keeps the variant whose NAME is `value`.
+bool wanted(const Options& options, const char* name, bool value) {
+  const double chosen = parameter(options, name, -1.0);
+  return chosen < 0.0 || (chosen != 0.0) == value;
 }
 
 }  // namespace
@@ -41,6 +48,7 @@ void run_stability_suite(Context& context) {
               StabilityScenario::Spin, StabilityScenario::WallImpact})
           for (const bool implicit : {false, true})
             for (const bool enriched : {false, true}) {
+              if (!wanted(options, "implicit", implicit) || !wanted(options, "enriched", enriched)) continue;
               const StabilityCase c{model, youngs, poisson, scenario, enriched, implicit};
               const StabilityOutcome outcome = run_stability_case(exec, c, budget);
               ++cases;
