@@ -4,7 +4,10 @@
 // position error against it. Needs --scene and --rom-model (and --set for the scene's parameters).
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench/suites/suites.h"
@@ -77,6 +80,9 @@ void run_rom_suite(Context& context) {
       reduced.projection = c.projection;
       reduced.samples = c.samples;
       run::PositionError error;
+      // The last repeat's seconds per stage and its substeps: the per-step split the ROM issue asks for.
+      std::vector<std::pair<std::string, double>> stages;
+      std::int64_t substeps = 0;
       const Measurement m = context.time(
           "rom", c.name(), exec, frames, "frame",
           [&] {
@@ -88,6 +94,8 @@ void run_rom_suite(Context& context) {
               accumulator.add_frame(sim.time(), sim.decode_positions(), reference[std::size_t(k)]);
             }
             error = accumulator.result();
+            stages = sim.stage_seconds();
+            substeps = sim.steps();
           },
           0.0, fmt::format("{} against the full-order run", options.scene));
       const std::string key = fmt::format("rom.{}.{}", c.name(), place);
@@ -95,6 +103,13 @@ void run_rom_suite(Context& context) {
       context.record(key + ".wall_per_simulated_second", per_second);
       context.record(key + ".speedup", full_per_second / per_second);
       context.record(key + ".position_error_percent", error.percent);
+      std::string split;
+      for (const auto& [stage, seconds] : stages) {
+        const double ms_per_substep = 1e3 * seconds / double(std::max<std::int64_t>(substeps, 1));
+        context.record(fmt::format("{}.stage.{}.ms_per_substep", key, stage), ms_per_substep);
+        split += fmt::format(" {} {:.3g}", stage, ms_per_substep);
+      }
+      fmt::print("         {} ms per substep by stage:{}\n", c.name(), split);
     }
   }
 }
