@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Markdown tables from the console output of `romp-bench --suite stability`: one row per model, E, nu
-and scenario with a cell per variant (explicit plain, explicit enriched, implicit plain), then the counts
-per variant.
+and scenario with a cell per variant (explicit or implicit, plain or enriched) that the output holds,
+then the counts per variant.
 
     tools/stability_table.py bench/results/<session>/stability-output.txt
 
@@ -15,8 +15,8 @@ import sys
 
 CASE = re.compile(r"^(\S+)/E([^/]+)/nu([^/]+)/([^/]+)/(plain|enriched)/(explicit|implicit)\s+"
                   r"(finished|non-finite|error|substep budget|time budget)\s+t ([\d.]+)/([\d.]+) s\s+(\d+) substeps\s+"
-                  r"energy x(\S+)\s+([\d.]+) s\s+(ok|NOT OK)(.*)$")
-VARIANTS = ["explicit plain", "explicit enriched", "implicit plain"]
+                  r"energy x(\S+)\s+(?:enriched [\d.]+\s+)?([\d.]+) s\s+(ok|NOT OK)(.*)$")
+ALL_VARIANTS = ["explicit plain", "explicit enriched", "implicit plain", "implicit enriched"]
 
 
 def cell(status, simulated, duration, energy, acceptable, message):
@@ -42,6 +42,8 @@ def main():
             rows.setdefault((model, youngs, poisson, scenario), {})[variant] = cell(status, t, end, energy, ok, message)
             kind = "finished" if status == "finished" else "stopped" if status in ("non-finite", "error") else "budget"
             counts[(variant, kind, ok)] += 1
+    seen = {variant for cells in rows.values() for variant in cells}
+    VARIANTS = [v for v in ALL_VARIANTS if v in seen]
     print("| model | E (Pa) | ν | scenario | " + " | ".join(VARIANTS) + " |")
     print("|---|---|---|---|" + "---|" * len(VARIANTS))
     for (model, youngs, poisson, scenario), cells in rows.items():
