@@ -72,9 +72,24 @@ int check_scene(const std::string& path, const romp::scene::ParameterValues& ove
   return 0;
 }
 
+int compare(const std::string& run, const std::string& reference, bool per_frame) {
+  const romp::run::PositionError error = romp::run::compare_snapshots(run, reference);
+  if (per_frame) {
+    fmt::print("{:>6}  {:>12}  {:>16}  {:>16}\n", "frame", "time (s)", "position error %", "MSE (m^2)");
+    for (std::size_t k = 0; k < error.frame_percent.size(); ++k)
+      fmt::print("{:>6}  {:>12.6g}  {:>16.6g}  {:>16.6g}\n", k, error.frame_times[k], error.frame_percent[k],
+                 error.frame_mse[k]);
+  }
+  fmt::print("{} against {}: accumulated position error {:.6g}% over {} frames of {} material points; "
+             "mean position MSE over frames after the first {:.6g} m^2\n",
+             run, reference, error.percent, error.frame_percent.size(), error.particles, error.mean_mse);
+  return 0;
+}
+
 int run_scene(romp::DeviceChoice choice, int threads, const std::string& path,
               const romp::scene::ParameterValues& overrides, const romp::scene::LearnedLaws& laws,
-              const romp::run::RunOptions& options, bool deterministic) {
+              const romp::run::RunOptions& options, bool deterministic, const std::string& reference,
+              bool per_frame) {
   if (deterministic) {
     // The CPU path with one thread sums every grid node's contributions in one fixed order.
     if (choice == romp::DeviceChoice::Cuda)
@@ -95,20 +110,10 @@ int run_scene(romp::DeviceChoice choice, int threads, const std::string& path,
              romp::to_string(exec.backend));
   for (const std::string& line : r.diagnostics) fmt::print("{}\n", line);
   fmt::print("output: {}\n\n{}", r.output, romp::run::stage_table(r.stage_seconds));
-  return 0;
-}
-
-int compare(const std::string& run, const std::string& reference, bool per_frame) {
-  const romp::run::PositionError error = romp::run::compare_snapshots(run, reference);
-  if (per_frame) {
-    fmt::print("{:>6}  {:>12}  {:>16}  {:>16}\n", "frame", "time (s)", "position error %", "MSE (m^2)");
-    for (std::size_t k = 0; k < error.frame_percent.size(); ++k)
-      fmt::print("{:>6}  {:>12.6g}  {:>16.6g}  {:>16.6g}\n", k, error.frame_times[k], error.frame_percent[k],
-                 error.frame_mse[k]);
+  if (!reference.empty()) {
+    fmt::print("\n");
+    return compare(r.output, reference, per_frame);
   }
-  fmt::print("{} against {}: accumulated position error {:.6g}% over {} frames of {} material points; "
-             "mean position MSE over frames after the first {:.6g} m^2\n",
-             run, reference, error.percent, error.frame_percent.size(), error.particles, error.mean_mse);
   return 0;
 }
 
@@ -161,6 +166,12 @@ int main(int argc, char** argv) {
   run->add_option("--law", law_assignments, law_help);
   romp::run::ReducedRunOptions reduced_options;
   romp::run::add_reduced_run_options(*run, reduced_options);
+  std::string run_reference;
+  bool per_frame = false;
+  run->add_option("--compare", run_reference,
+                  "Then print the run's position error against this reference run of the same scene (as compare)")
+      ->check(CLI::ExistingFile);
+  run->add_flag("--frames", per_frame, "With --compare: also print the error of every frame");
 
   CLI::App* sweep_command = app.add_subcommand("sweep", "Run every member of a scene's [sweep]");
   romp::run::SweepOptions sweep_options;
@@ -174,7 +185,6 @@ int main(int argc, char** argv) {
   CLI::App* compare_command =
       app.add_subcommand("compare", "Position error (%) of a run against a reference run of the same scene (ROM paper)");
   std::string compared_run, reference_run;
-  bool per_frame = false;
   compare_command->add_option("run", compared_run, "Snapshot file (.h5) of the run to measure")->required()->check(
       CLI::ExistingFile);
   compare_command->add_option("reference", reference_run, "Snapshot file (.h5) of the reference (full-order) run")
@@ -215,7 +225,7 @@ int main(int argc, char** argv) {
       run_options.make_reduced = [&reduced_options](const romp::Exec& exec, const romp::scene::SceneSetup& setup) {
         return romp::run::make_reduced_simulation(reduced_options, exec, setup);
       };
-    return run_scene(choice, threads, scene_path, overrides, laws, run_options, deterministic);
+    return run_scene(choice, threads, scene_path, overrides, laws, run_options, deterministic, run_reference, per_frame);
   } catch (const CLI::ParseError& error) {
     return app.exit(error) == 0 ? 0 : kExitBadArguments;
   } catch (const romp::scene::SceneError& error) {

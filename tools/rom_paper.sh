@@ -1,0 +1,145 @@
+#!/usr/bin/env bash
+# The ROM paper's experiments end to end (Chen et al. 2023), one command each: the parameter sweep at
+# the paper's resolution, the training of the deformation map, the reduced-order runs on the sweep's
+# test members, and `romp compare` of each against the member's full-order run. Prints a markdown
+# table: the accumulated position error, mean over the test members (worst in parentheses).
+#
+#   tools/rom_paper.sh EXPERIMENT OUTPUT_DIR [--epochs N] [--schemes LIST] [-- romp options]
+#
+# EXPERIMENT
+#   gravity-samples   Fig. 11: the gravity cylinder (r = 4), error against the number of sample points
+#                     per substep (1, 2, 5, 10, 20, 50, 100, all); the paper: < 1 % from 10 points
+#   gravity-manifold  Fig. 21's comparison on the gravity cylinder (the paper's is on the tower): the
+#                     nonlinear map against the linear manifold at the same r = 4, 10 and all points
+#   torsion           Table 3: torsion-tension (r = 7), 50 and all sample points
+# --epochs N: training length of each map (default 80, short of convergence on a CPU);
+# --schemes: comma-separated among lagrangian-position, lagrangian-velocity, eulerian-position,
+# eulerian-velocity (default: all four; quadrature, then projection); options after -- go to every
+# romp command (e.g. -- --device cpu --threads 1).
+#
+# Steps whose output exists are skipped and an interrupted training resumes from its checkpoint, so
+# experiments on the same OUTPUT_DIR share sweeps and maps; an existing sweep placed at
+# OUTPUT_DIR/<scene>/sweep or a map at OUTPUT_DIR/<scene>/<map>.h5 is reused the same way.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+romp="${ROMP:-$root/build/romp}"
+usage() { sed -n '7,22p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+[ $# -ge 2 ] || usage
+experiment="$1" out="$2"
+shift 2
+epochs=80 schemes="lagrangian-position,lagrangian-velocity,eulerian-position,eulerian-velocity"
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --epochs) epochs="$2"; shift 2 ;;
+    --schemes) schemes="$2"; shift 2 ;;
+    --) shift; break ;;
+    *) usage ;;
+  esac
+done
+options=("$@")
+IFS=, read -r -a scheme_list <<< "$schemes"
+
+# sweep NAME SCENE SED: the sweep of scenes/rom/SCENE with the paper's resolution (SED rewrites the
+# scene's dx line) in OUTPUT_DIR/NAME/sweep, unless there.
+sweep() {
+  local folder="$out/$1"
+  mkdir -p "$folder"
+  local scene="$folder/$(basename "$2" .toml)_paper.toml"
+  [ -f "$scene" ] || sed "$3" "$root/scenes/rom/$2" > "$scene"
+  if [ ! -f "$folder/sweep/manifest.json" ]; then
+    echo "sweep: $folder/sweep" >&2
+    "$romp" "${options[@]}" sweep "$scene" -o "$folder/sweep" -j 2 > "$folder/sweep.log" 2>&1
+  fi
+}
+
+# train MODEL SWEEP [train-rom options]: trains the map unless MODEL exists, resuming a checkpoint.
+train() {
+  local model="$1" sweep_folder="$2"
+  shift 2
+  [ -f "$model" ] && return 0
+  local resume=()
+  [ -f "$model.checkpoint" ] && resume=(--resume)
+  echo "training: $model ($epochs epochs)" >&2
+  "$romp" "${options[@]}" train-rom "$sweep_folder" -o "$model" --epochs "$epochs" --report-every 10 \
+    "${resume[@]}" "$@" > "${model%.h5}.log" 2>&1
+}
+
+# test_members SWEEP: one "index scene snapshot" line per test member.
+test_members() {
+  /usr/bin/python3 - "$1/manifest.json" <<'EOF'
+import json, os, sys
+manifest = json.load(open(sys.argv[1]))
+folder = os.path.dirname(sys.argv[1])
+for member in manifest["members"]:
+    if member["split"] == "test":
+        print(member["index"], os.path.join(folder, member["scene"]), os.path.join(folder, member["snapshot"]))
+EOF
+}
+
+# rom_error MODEL SCHEME SAMPLES INDEX SCENE REFERENCE: runs the member reduced (unless done) and prints
+# its accumulated position error (%) against the full-order run, or "failed".
+rom_error() {
+  local model="$1" quadrature="${2%-*}" projection="${2#*-}" samples="$3" index="$4" scene="$5" reference="$6"
+  local runs="$(dirname "$model")/runs"
+  local run="$runs/$(basename "$model" .h5)-$2-s$samples-m$index.h5"
+  mkdir -p "$runs"
+  if [ ! -f "$run" ] && ! "$romp" "${options[@]}" run --no-progress "$scene" --rom "$model" --quadrature "$quadrature" \
+      --projection "$projection" --samples "$samples" -o "$run" > "${run%.h5}.log" 2>&1; then
+    echo failed
+    return
+  fi
+  "$romp" "${options[@]}" compare "$run" "$reference" | sed -n 's/.*accumulated position error \([^%]*\)%.*/\1/p'
+}
+
+# cell MODEL SWEEP SCHEME SAMPLES: "mean % (worst %)" over the sweep's test members.
+cell() {
+  local values=()
+  while read -r index scene snapshot; do
+    values+=("$(rom_error "$1" "$3" "$4" "$index" "$scene" "$snapshot")")
+  done < <(test_members "$2")
+  /usr/bin/python3 -c '
+import sys
+values = sys.argv[1:]
+bad = sum(v in ("failed", "") for v in values)
+if bad:
+    print(f"{bad} of {len(values)} runs failed")
+else:
+    numbers = [float(v) for v in values]
+    print(f"{sum(numbers) / len(numbers):.3g} % ({max(numbers):.3g} %)")' "${values[@]}"
+}
+
+# table MODEL SWEEP LABEL COUNTS...: one row per sample count (0: all), one column per scheme.
+table() {
+  local model="$1" sweep_folder="$2" label="$3"
+  shift 3
+  local header="| $label | sample points |" rule="|---|---|"
+  for scheme in "${scheme_list[@]}"; do header+=" $scheme |"; rule+="---|"; done
+  echo "$header"
+  echo "$rule"
+  for samples in "$@"; do
+    local row="| $(basename "$model" .h5) | $([ "$samples" = 0 ] && echo all || echo "$samples") |"
+    for scheme in "${scheme_list[@]}"; do row+=" $(cell "$model" "$sweep_folder" "$scheme" "$samples") |"; done
+    echo "$row"
+  done
+}
+
+case "$experiment" in
+  gravity-samples)
+    sweep gravity gravity_cylinder.toml 's/^dx = 0.002 .*/dx = 0.004/'
+    train "$out/gravity/mlp_r4.h5" "$out/gravity/sweep" --latent 4
+    table "$out/gravity/mlp_r4.h5" "$out/gravity/sweep" map 1 2 5 10 20 50 100 0
+    ;;
+  gravity-manifold)
+    sweep gravity gravity_cylinder.toml 's/^dx = 0.002 .*/dx = 0.004/'
+    train "$out/gravity/mlp_r4.h5" "$out/gravity/sweep" --latent 4
+    train "$out/gravity/linear_r4.h5" "$out/gravity/sweep" --latent 4 --linear
+    table "$out/gravity/mlp_r4.h5" "$out/gravity/sweep" map 10 0
+    table "$out/gravity/linear_r4.h5" "$out/gravity/sweep" map 10 0 | tail -n +3
+    ;;
+  torsion)
+    sweep torsion torsion_tension.toml 's/^dx = 0.00125 .*/dx = 0.0025/'
+    train "$out/torsion/mlp_r7.h5" "$out/torsion/sweep" --latent 7
+    table "$out/torsion/mlp_r7.h5" "$out/torsion/sweep" map 50 0
+    ;;
+  *) usage ;;
+esac
