@@ -10,6 +10,8 @@ import json
 import re
 
 CASE = re.compile(r"^rom\.(lagrangian|eulerian)_(velocity|position)_(\w+?)\.(\w+?)\.(.+)$")
+# ReducedSim's stages in the order a substep runs them; others follow in the order found.
+PIPELINE = ["samples", "kinematics", "grid_build", "p2g", "grid_update", "g2p", "projection"]
 
 
 def main():
@@ -35,6 +37,7 @@ def main():
                 stages.append(stage)
         else:
             case[quantity] = value
+    stages.sort(key=lambda stage: PIPELINE.index(stage) if stage in PIPELINE else len(PIPELINE))
     full = records.get(f"rom.full_order.{args.place}.wall_per_simulated_second")
     print(f"Full-order run: {full:.3g} wall s per simulated s ({args.place}).\n" if full else "", end="")
     columns = ["quadrature", "projection", "samples", "wall s per simulated s", "speed-up", "position error"]
