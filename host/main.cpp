@@ -225,7 +225,8 @@ int main(int argc, char** argv) {
       run_options.make_reduced = [&reduced_options](const romp::Exec& exec, const romp::scene::SceneSetup& setup) {
         return romp::run::make_reduced_simulation(reduced_options, exec, setup);
       };
-    return run_scene(choice, threads, scene_path, overrides, laws, run_options, deterministic, run_reference, per_frame);
+    return run_scene(choice, threads, scene_path, overrides, laws, run_options, deterministic, run_reference,
+                     per_frame);
   } catch (const CLI::ParseError& error) {
     return app.exit(error) == 0 ? 0 : kExitBadArguments;
   } catch (const romp::scene::SceneError& error) {

@@ -59,8 +59,10 @@ void run_stability_suite(Context& context) {
               context.record(key + ".simulated_fraction", outcome.simulated_seconds / outcome.end_seconds);
               context.record(key + ".energy_ratio", outcome.energy_ratio);
               context.record(key + ".largest_enriched_share", outcome.largest_enriched_share);
-              fmt::print("{:<72} {:<15} t {:.4f}/{:.4f} s  {:>6} substeps  energy x{:<9.3g} enriched {:4.2f} {:6.2f} s  {}{}\n",
-                         c.name(), outcome.status_name(), outcome.simulated_seconds, outcome.end_seconds, outcome.substeps,
+              fmt::print("{:<72} {:<15} t {:.4f}/{:.4f} s  {:>6} substeps  energy x{:<9.3g} enriched {:4.2f} "
+                         "{:6.2f} s  {}{}\n",
+                         c.name(), outcome.status_name(), outcome.simulated_seconds, outcome.end_seconds,
+                         outcome.substeps,
                          outcome.energy_ratio, outcome.largest_enriched_share, outcome.wall_seconds,
                          outcome.acceptable() ? "ok" : "NOT OK",
                          outcome.message.empty() ? "" : "  " + outcome.message.substr(0, 160));

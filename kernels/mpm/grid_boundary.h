@@ -34,11 +34,6 @@ struct GridNode {
     position = Vec3<float>(index[0] * grid.dx, index[1] * grid.dx, index[2] * grid.dx);
     dx = grid.dx;
   }
-
-  ROMP_HD bool on_low_wall(const StepParams& step, int axis) const { return near_low_wall(step, position[axis], dx); }
-  ROMP_HD bool on_high_wall(const StepParams& step, int axis) const {
-    return near_high_wall(step, axis, position[axis], dx);
-  }
 };
 
 // v after the walls (at rest) and then each collider that contains x: the grid update's rule at a

@@ -355,9 +355,10 @@ struct ApplyPreconditioner {
   Index entries;
 
   ROMP_HD void operator()(Index n) const {
-    const Vec3<float> d = entry_vectors(inverse_diagonal, entries).load(n), residual = entry_vectors(r, entries).load(n);
+    const Vec3<float> d = entry_vectors(inverse_diagonal, entries).load(n);
+    const Vec3<float> residual = entry_vectors(r, entries).load(n);
     entry_vectors(z, entries).store(n, projector.load(n) * Vec3<float>(d[0] * residual[0], d[1] * residual[1],
-                                                                    d[2] * residual[2]));
+                                                                       d[2] * residual[2]));
   }
 };
 
@@ -369,12 +370,12 @@ struct ApplyStiffness {
 
   ROMP_HD void operator()(const ParticleStencil& s, const Mat3<float>& F, const PrincipalStiffness<float>& stiffness,
                           float scale) const {
-    const Vec3Planes<const float> x_nodes = entry_vectors(x, entries);
+    const Vec3Planes<const float> x_entries = entry_vectors(x, entries);
     Mat3<float> displacement_gradient = Mat3<float>::zero();
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         for (int k = 0; k < 3; ++k)
-          displacement_gradient += Mat3<float>::outer(x_nodes.load(s.nodes.node(i, j, k)), s.weight_gradient(i, j, k));
+          displacement_gradient += Mat3<float>::outer(x_entries.load(s.nodes.node(i, j, k)), s.weight_gradient(i, j, k));
     const Mat3<float> force_moment = scale * times_transpose(stiffness.apply(displacement_gradient * F), F);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)

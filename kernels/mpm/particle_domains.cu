@@ -97,7 +97,8 @@ struct CornersToGrid {
       if (domains.dirichlet_group[c] != kNoDirichletGroup) return;  // grid_to_corners moves it rigidly
       const float inverse_mass = 1.0f / mass;
       domains.v_old.store(c, inverse_mass * momentum);
-      domains.v.store(c, resolve_boundaries(step, domains.x.load(c), grid.dx, inverse_mass * impulse + step.dt * step.gravity));
+      const Vec3<float> v = inverse_mass * impulse + step.dt * step.gravity;
+      domains.v.store(c, resolve_boundaries(step, domains.x.load(c), grid.dx, v));
       return;
     }
     const QuadraticStencil<float> stencil(domains.x.load(c), grid.inverse_dx);

@@ -51,7 +51,8 @@ class DomainOperatorFixture {
         material::Lame<float>{float(kLame.mu), float(kLame.lambda)});
     materials_ = DeviceBuffer<material::MaterialParams<float>>::from_host(
         exec_.backend, std::vector<material::MaterialParams<float>>{params});
-    failures_ = DeviceBuffer<std::int64_t>::from_host(exec_.backend, std::vector<std::int64_t>(kStageCount, kNoFailure));
+    failures_ =
+        DeviceBuffer<std::int64_t>::from_host(exec_.backend, std::vector<std::int64_t>(kStageCount, kNoFailure));
     StepParams& step = system_.step;
     step.dt = dt;
     for (int a = 0; a < 3; ++a) step.domain_cells[a] = kCells;
@@ -64,8 +65,10 @@ class DomainOperatorFixture {
     enriched_.assign(std::size_t(domains.corners), 0);
     if (enrich)
       for (Index p = 0; p < init_.count(); p += 3)
-        for (int a = 0; a < kDomainCorners; ++a)
-          enriched_[std::size_t(init_.domains.corner[std::size_t(kDomainCorners * init_.domain[std::size_t(p)] + a)])] = 1;
+        for (int a = 0; a < kDomainCorners; ++a) {
+          const std::size_t entry = std::size_t(kDomainCorners * init_.domain[std::size_t(p)] + a);
+          enriched_[std::size_t(init_.domains.corner[entry])] = 1;
+        }
     memory::copy(domains.enriched.data(), exec_.backend, enriched_.data(), Backend::Cpu,
                  enriched_.size() * sizeof(std::int32_t), exec_.stream);
     grid_.rebuild(exec_, Vec3Planes<const float>(particles.x), Vec3Planes<const float>(domains.x));
@@ -195,7 +198,8 @@ TEST_P(ImplicitDomainOperator, IsSymmetricAndSemidefinite) {
   const std::vector<float> free = fixture.free();
   Index free_corner_components = 0;
   for (int a = 0; a < 3; ++a)
-    for (Index n = fixture.nodes(); n < fixture.entries(); ++n) free_corner_components += free[a * fixture.entries() + n] > 0;
+    for (Index n = fixture.nodes(); n < fixture.entries(); ++n)
+      free_corner_components += free[a * fixture.entries() + n] > 0;
   if (GetParam()) EXPECT_GT(free_corner_components, 0) << "no enriched corner is an unknown";
   else EXPECT_EQ(free_corner_components, 0) << "a corner bound to the grid is an unknown";
 
@@ -266,7 +270,8 @@ std::vector<double> explicit_force(const DomainOperatorFixture& fixture,
         for (int j = 0; j < 3; ++j)
           for (int k = 0; k < 3; ++k)
             for (int a = 0; a < 3; ++a)
-              u[std::size_t(c)][a] += stencil.weight(i, j, k) * dv[std::size_t(a * entries + node_of(stencil, i, j, k))];
+              u[std::size_t(c)][a] +=
+                  stencil.weight(i, j, k) * dv[std::size_t(a * entries + node_of(stencil, i, j, k))];
     }
     u[std::size_t(c)] = (s * dt) * u[std::size_t(c)];
   }

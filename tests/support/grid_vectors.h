@@ -13,10 +13,11 @@
 namespace romp::test {
 
 // `grid` with its block keys copied to `keys` on the host, so that GridNode works there on any backend.
-inline mpm::GridView with_host_block_keys(const Exec& exec, const mpm::GridView& grid, std::vector<std::uint64_t>& keys) {
+inline mpm::GridView with_host_block_keys(const Exec& exec, const mpm::GridView& grid,
+                                          std::vector<std::uint64_t>& keys) {
   keys.resize(grid.blocks);
-  memory::copy(keys.data(), Backend::Cpu, grid.table.block_keys.data(), exec.backend, keys.size() * sizeof(std::uint64_t),
-               exec.stream);
+  memory::copy(keys.data(), Backend::Cpu, grid.table.block_keys.data(), exec.backend,
+               keys.size() * sizeof(std::uint64_t), exec.stream);
   mpm::GridView host_grid = grid;
   host_grid.table.block_keys = Span<std::uint64_t>(keys.data(), grid.blocks);
   return host_grid;
