@@ -12,6 +12,7 @@
 
 #include "bench/suites/suites.h"
 #include "host/stability_case.h"
+#include "kernels/core/error.h"
 
 namespace romp::bench {
 namespace {
@@ -23,8 +24,11 @@ double parameter(const Options& options, const char* name, double fallback) {
 
 // Whether --set NAME=0|1 (absent: both) keeps the variant whose NAME is `value`.
 bool wanted(const Options& options, const char* name, bool value) {
-  const double chosen = parameter(options, name, -1.0);
-  return chosen < 0.0 || (chosen != 0.0) == value;
+  const auto found = options.parameters.find(name);
+  if (found == options.parameters.end()) return true;
+  ROMP_CHECK(found->second == 0.0 || found->second == 1.0,
+             fmt::format("stability suite: --set {}={} must be 0 or 1", name, found->second));
+  return (found->second == 1.0) == value;
 }
 
 }  // namespace
