@@ -10,6 +10,7 @@
 #include "host/io/atomic_file.h"
 #include "host/nclaw/ground_truth.h"
 #include "host/nclaw/oracles.h"
+#include "host/run/interrupt.h"
 #include "kernels/core/error.h"
 #include "nn/nclaw/evaluation.h"
 #include "nn/nclaw/law_file.h"
@@ -126,6 +127,8 @@ int learn_law(DeviceChoice choice, int threads, const LearnLawOptions& options) 
   }
   spdlog::info("learning laws from {}: {} particles, {} substeps per epoch, {} epochs on {}", options.trajectory,
                truth.trajectory.particle_count(), training.steps, training.epochs, device.str());
+  // Ctrl-C or SIGTERM ends the epoch under way, whose checkpoint is then the place to resume from.
+  run::install_interrupt_handler();
   while (!trainer.finished()) {
     const nn::EpochReport r = trainer.train_epoch();
     trainer.save_checkpoint(checkpoint);
@@ -133,6 +136,11 @@ int learn_law(DeviceChoice choice, int threads, const LearnLawOptions& options) 
                  "gradient norms {:.3g}, {:.3g}  {:.2f} s",
                  r.epoch + 1, training.epochs, r.loss, r.teacher_forcing_period, r.elastic_learning_rate,
                  r.plastic_learning_rate, r.elastic_gradient_norm, r.plastic_gradient_norm, r.seconds);
+    if (run::interrupt_requested() && !trainer.finished()) {
+      spdlog::warn("interrupted after epoch {}; continue with --resume (checkpoint {})", trainer.epochs_done(),
+                   checkpoint);
+      return run::kExitInterrupted;
+    }
   }
   const double reconstruction = trainer.reconstruction_error();
   nn::write_law_file(options.output, trainer.laws(),

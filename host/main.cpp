@@ -12,6 +12,7 @@
 #include "host/backend_selection.h"
 #include "host/build_info.h"
 #include "host/info_report.h"
+#include "host/run/interrupt.h"
 #include "host/run/position_error.h"
 #include "host/run/reduced_run_options.h"
 #include "host/learn_law_command.h"
@@ -33,7 +34,6 @@ constexpr int kExitBadArguments = 2;
 constexpr int kExitInvalidInput = 3;
 constexpr int kExitNonFinite = 4;
 constexpr int kExitSweepMembersFailed = 5;
-constexpr int kExitInterrupted = 130;
 
 // "--set name=value" pairs as parameter overrides.
 romp::scene::ParameterValues parse_overrides(const std::vector<std::string>& sets) {
@@ -103,7 +103,7 @@ int run_scene(romp::DeviceChoice choice, int threads, const std::string& path,
   if (r.interrupted) {
     spdlog::warn("interrupted after frame {}; {} holds the frames so far{}", r.last_frame, r.output_in_progress,
                  options.make_reduced ? "" : "; continue with --resume");
-    return kExitInterrupted;
+    return romp::run::kExitInterrupted;
   }
   fmt::print("{}: {} particles, {} frames, {} substeps ({:.4g} s simulated) in {:.3f} s on {}\n", scene.name,
              r.particles, r.frames_written, r.substeps, r.simulated_seconds, r.wall_seconds,

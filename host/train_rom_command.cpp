@@ -23,7 +23,6 @@ namespace {
 
 // README "Exit codes".
 constexpr int kExitInvalidInput = 3;
-constexpr int kExitInterrupted = 130;
 
 std::string percent(double value) { return std::isnan(value) ? "n/a" : fmt::format("{:.3g}%", 100.0 * value); }
 
@@ -138,7 +137,7 @@ int train_rom_command(DeviceChoice choice, int threads, const TrainRomOptions& o
   if (result.interrupted) {
     spdlog::warn("interrupted after epoch {}; continue with --resume (checkpoint {})",
                  result.model.training.epochs_done, train.checkpoint);
-    return kExitInterrupted;
+    return run::kExitInterrupted;
   }
   nn::rom::RomModel model = result.model;
   model.training.romp_version = build_info().version;

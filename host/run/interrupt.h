@@ -4,6 +4,9 @@
 
 namespace romp::run {
 
+// The exit status of a command stopped this way (README "Exit codes"): 128 + SIGINT, as a shell reports it.
+inline constexpr int kExitInterrupted = 130;
+
 // Installs the handlers (idempotent).
 void install_interrupt_handler();
 bool interrupt_requested();

@@ -20,25 +20,11 @@
 namespace romp {
 namespace {
 
-// A 4³-particle cube thrown onto the floor, which it hits within the 10 substeps (one frame each).
-constexpr const char* kScene = R"(
-[domain]
-size = [1.0, 1.0, 1.0]
-dx = 0.1
-[time]
-end = 0.01
-frame_rate = 1000
-dt = 1e-3
-[boundary]
-wall_cells = 3
-contact = "separate"
-[materials.body]
-preset = "jelly"
-[[objects]]
-velocity = [0.0, -4.0, 0.0]
-shape = { type = "box", center = [0.5, 0.41, 0.5], size = [0.2, 0.2, 0.2] }
-sampling = { per_cell = 2 }
-)";
+// tests/data/scenes/thrown_cube.toml: a 4³-particle cube thrown onto the floor, one frame per substep.
+std::string thrown_cube_scene() {
+  std::ifstream in(ROMP_TEST_DATA_DIR "/scenes/thrown_cube.toml");
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
 
 class LearnLawCommand : public ::testing::Test {
  protected:
@@ -46,7 +32,7 @@ class LearnLawCommand : public ::testing::Test {
     run::RunOptions run_options;
     run_options.output = folder_.file("cube.h5");
     run_options.progress = false;
-    run::run_scene(Exec::cpu(), scene::parse_scene(kScene, "cube.toml"), run_options);
+    run::run_scene(Exec::cpu(), scene::parse_scene(thrown_cube_scene(), "thrown_cube.toml"), run_options);
     options_.trajectory = run_options.output;
     options_.output = folder_.file("law.h5");
     options_.epochs = 2;
@@ -112,7 +98,7 @@ TEST_F(LearnLawCommand, SystemIdentificationWritesASceneMaterial) {
   EXPECT_EQ(learn_law(DeviceChoice::Cpu, 1, options_), 0);
   std::ifstream in(options_.output);
   const std::string table((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::string scene = kScene;
+  std::string scene = thrown_cube_scene();
   scene.replace(scene.find("[materials.body]\npreset = \"jelly\"\n"), 34, table);
   const scene::Scene parsed = scene::parse_scene(scene, folder_.file("identified_scene.toml"));
   ASSERT_EQ(parsed.materials.size(), 1u);
