@@ -4,7 +4,7 @@
 # test members, and `romp compare` of each against the member's full-order run. Prints a markdown
 # table: the accumulated position error, mean over the test members (worst in parentheses).
 #
-#   tools/rom_paper.sh EXPERIMENT OUTPUT_DIR [--epochs N] [--schemes LIST] [-- romp options]
+#   tools/rom_paper.sh EXPERIMENT OUTPUT_DIR [--epochs N] [--schemes LIST] [--samples LIST] [-- romp options]
 #
 # EXPERIMENT
 #   gravity-samples   Fig. 11: the gravity cylinder (r = 4), error against the number of sample points
@@ -14,8 +14,9 @@
 #   torsion           Table 3: torsion-tension (r = 7), 50 and all sample points
 # --epochs N: training length of each map (default 80, short of convergence on a CPU);
 # --schemes: comma-separated among lagrangian-position, lagrangian-velocity, eulerian-position,
-# eulerian-velocity (default: all four; quadrature, then projection); options after -- go to every
-# romp command (e.g. -- --device cpu --threads 1).
+# eulerian-velocity (default: all four; quadrature, then projection); --samples: comma-separated sample
+# counts, 0 for all points, in place of the experiment's rows; options after -- go to every romp command
+# (e.g. -- --device cpu --threads 1).
 #
 # Steps whose output exists are skipped and an interrupted training resumes from its checkpoint, so
 # experiments on the same OUTPUT_DIR share sweeps and maps; an existing sweep placed at
@@ -23,15 +24,16 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 romp="${ROMP:-$root/build/romp}"
-usage() { sed -n '7,22p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '7,23p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 [ $# -ge 2 ] || usage
 experiment="$1" out="$2"
 shift 2
-epochs=80 schemes="lagrangian-position,lagrangian-velocity,eulerian-position,eulerian-velocity"
+epochs=80 schemes="lagrangian-position,lagrangian-velocity,eulerian-position,eulerian-velocity" samples=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --epochs) epochs="$2"; shift 2 ;;
     --schemes) schemes="$2"; shift 2 ;;
+    --samples) samples="$2"; shift 2 ;;
     --) shift; break ;;
     *) usage ;;
   esac
@@ -108,10 +110,16 @@ else:
     print(f"{sum(numbers) / len(numbers):.3g} % ({max(numbers):.3g} %)")' "${values[@]}"
 }
 
-# table MODEL SWEEP LABEL COUNTS...: one row per sample count (0: all), one column per scheme.
+# table MODEL SWEEP LABEL COUNTS...: one row per sample count (0: all), one column per scheme; --samples
+# replaces COUNTS.
 table() {
   local model="$1" sweep_folder="$2" label="$3"
   shift 3
+  if [ -n "$samples" ]; then
+    local counts
+    IFS=, read -r -a counts <<< "$samples"
+    set -- "${counts[@]}"
+  fi
   local header="| $label | sample points |" rule="|---|---|"
   for scheme in "${scheme_list[@]}"; do header+=" $scheme |"; rule+="---|"; done
   echo "$header"

@@ -20,7 +20,7 @@ constexpr std::int64_t kSweepFormatVersion = 1;
 
 // Frames of one split before they become one tensor per field.
 struct SetBuilder {
-  std::vector<torch::Tensor> x, v, F;
+  std::vector<torch::Tensor> x, frame_velocity, F;
   std::vector<std::int64_t> next;
   std::vector<float> has_next, dt;
 
@@ -30,7 +30,7 @@ struct SetBuilder {
     SnapshotSet set;
     if (x.empty()) return set;
     set.x = torch::cat(x).to(device);
-    set.v = torch::cat(v).to(device);
+    set.frame_velocity = torch::cat(frame_velocity).to(device);
     set.F = torch::cat(F).to(device);
     set.next = torch::tensor(next, torch::kInt64).to(device);
     set.has_next = torch::tensor(has_next, torch::kFloat32).to(device);
@@ -86,7 +86,12 @@ void add_member(const std::string& path, const SnapshotFrames& frames, const tor
       throw Error("snapshot " + path + ": frame times do not increase at frame " + std::to_string(k + 1));
   }
   set.x.push_back(frames.x);
-  set.v.push_back(frames.v);
+  torch::Tensor velocity = torch::zeros_like(frames.x);
+  if (count > 1) {
+    const torch::Tensor dt = torch::tensor(std::vector<float>(set.dt.end() - count, set.dt.end() - 1));
+    velocity.slice(0, 0, count - 1) = (frames.x.slice(0, 1) - frames.x.slice(0, 0, count - 1)) / dt.view({-1, 1, 1});
+  }
+  set.frame_velocity.push_back(velocity);
   set.F.push_back(frames.F);
 }
 

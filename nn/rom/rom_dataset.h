@@ -25,7 +25,12 @@ struct SweepMember {
 // The snapshots of one split, member by member, frames in time order; P material points each, in the
 // snapshots' initial particle order.
 struct SnapshotSet {
-  torch::Tensor x, v;      // [S, P, 3] f32 positions (m) and velocities (m/s)
+  torch::Tensor x;         // [S, P, 3] f32 positions (m)
+  // [S, P, 3] f32 (x_{n+1} − x_n) / (t_{n+1} − t_n) (m/s), 0 for a last frame: the velocity the frames imply,
+  // which Eq. (31)'s velocity term matches with the same difference of x̂. Not the stored v_n: frames a few
+  // substeps apart make their forward difference differ from v_n by O(Δt) (13.7 % on the gravity sweep,
+  // 1/144 s apart), a gap no tangent ∂g/∂x̂ could close.
+  torch::Tensor frame_velocity;
   torch::Tensor F;         // [S, P, 3, 3] f32 deformation gradients
   torch::Tensor next;      // [S] i64: the snapshot of frame n+1 of the same member, or itself for a last frame
   torch::Tensor has_next;  // [S] f32: 1 where frame n+1 exists, else 0

@@ -34,7 +34,7 @@ ReconstructionErrors reconstruction_errors(const RomModel& model, const torch::T
     const ManifoldJacobians j =
         manifold_jacobians(*model.map, xhat.repeat_interleave(particles, 0), X.repeat({count, 1}),
                            rate.repeat_interleave(particles, 0).unsqueeze(2), method, /*create_graph=*/false);
-    const torch::Tensor v = set.v.index_select(0, index).reshape({-1, 3});
+    const torch::Tensor v = set.frame_velocity.index_select(0, index).reshape({-1, 3});
     const torch::Tensor F = set.F.index_select(0, index).reshape({-1, 3, 3});
     const torch::Tensor counts = set.has_next.index_select(0, index).repeat_interleave(particles).unsqueeze(1);
     sums += torch::stack({squared_sum(j.x - x.reshape({-1, 3})), squared_sum(x), squared_sum(j.F - F), squared_sum(F),

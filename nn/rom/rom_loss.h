@@ -1,5 +1,8 @@
 // The training loss of the ROM paper, Eq. (31): position error, plus λ_F times the deformation-gradient error,
-// plus λ_v times the error of the velocity (∂g/∂x̂)(x̂_{n+1} − x̂_n)/Δt, averaged over material points.
+// plus λ_v times the error of the velocity (∂g/∂x̂)(x̂_{n+1} − x̂_n)/Δt, averaged over material points. The
+// paper's target is φ̇(t_n); romp's is the frames' own difference (x_{n+1} − x_n)/Δt, which is φ̇ when frames
+// are one substep apart (the MPM moves x by Δt·v_{n+1}) and, for frames several substeps apart, leaves in the
+// term only the linearisation error it is there to reduce (SnapshotSet::frame_velocity).
 //
 // Eq. (31) depends on the length unit: in metres a 4 cm cylinder's position errors are ~1e-5 while F's are
 // O(1e-2), and λ_F = 100 leaves the positions unlearnt (measured: 20% test position error after 3 epochs of
@@ -25,7 +28,8 @@ struct LossBatch {
   torch::Tensor xhat;       // [N, r] x̂ of the row's snapshot, from the encoder
   torch::Tensor xhat_rate;  // [N, r] (x̂_{n+1} − x̂_n) / Δt, zero where frame n+1 does not exist
   torch::Tensor X;          // [N, 3] reference positions
-  torch::Tensor x, v;       // [N, 3] full-order positions and velocities
+  torch::Tensor x;          // [N, 3] full-order positions
+  torch::Tensor v;          // [N, 3] the frames' velocity (x_{n+1} − x_n)/Δt (SnapshotSet::frame_velocity)
   torch::Tensor F;          // [N, 3, 3] full-order deformation gradients
   torch::Tensor has_next;   // [N] 1 where frame n+1 exists (the velocity term counts), else 0
 };

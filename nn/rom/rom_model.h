@@ -42,7 +42,8 @@ struct TrainingSettings {
 struct ReconstructionErrors {
   double position = std::numeric_limits<double>::quiet_NaN();
   double F = std::numeric_limits<double>::quiet_NaN();
-  double velocity = std::numeric_limits<double>::quiet_NaN();  // from (∂g/∂x̂)(x̂_{n+1} − x̂_n)/Δt; last frames excluded
+  // (∂g/∂x̂)(x̂_{n+1} − x̂_n)/Δt against (x_{n+1} − x_n)/Δt; last frames excluded
+  double velocity = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct TrainingRecord {

@@ -66,7 +66,7 @@ LossBatch make_batch(const RomModel& model, const RomDataset& data, const torch:
   batch.xhat_rate = rate.repeat_interleave(per_snapshot, 0);
   batch.X = data.X.index_select(0, points.flatten());
   batch.x = set.x.view({-1, 3}).index_select(0, rows);
-  batch.v = set.v.view({-1, 3}).index_select(0, rows);
+  batch.v = set.frame_velocity.view({-1, 3}).index_select(0, rows);
   batch.F = set.F.view({-1, 3, 3}).index_select(0, rows);
   batch.has_next = set.has_next.index_select(0, index).repeat_interleave(per_snapshot);
   return batch;

@@ -18,26 +18,23 @@ torch::Tensor rows(const std::vector<float>& planes, std::int64_t n, std::int64_
 
 SnapshotFrames read_snapshot_frames(const std::string& path) {
   const io::SnapshotReader reader(path);
-  for (const io::FieldMask needed : {io::kFieldV, io::kFieldF})
-    if (!(reader.fields() & needed))
-      throw Error(fmt::format("snapshot {}: attribute /fields lacks \"{}\": ROM training needs x, v and F per "
-                              "frame (set the scene's output.fields)",
-                              path, needed == io::kFieldV ? "v" : "F"));
+  if (!(reader.fields() & io::kFieldF))
+    throw Error(fmt::format("snapshot {}: attribute /fields lacks \"F\": ROM training needs x and F per frame (set "
+                            "the scene's output.fields)",
+                            path));
   if (reader.frame_count() < 1) throw Error(fmt::format("snapshot {}: no complete frame", path));
 
   const std::int64_t n = reader.particle_count();
   SnapshotFrames s;
   s.X = rows(reader.header().X, n, 3);
-  std::vector<torch::Tensor> x, v, F;
+  std::vector<torch::Tensor> x, F;
   for (std::int64_t k = 0; k < reader.frame_count(); ++k) {
     const io::FrameData frame = reader.read_frame(k);
     s.times.push_back(frame.time);
     x.push_back(rows(frame.x, n, 3));
-    v.push_back(rows(frame.v, n, 3));
     F.push_back(rows(frame.F, n, 9).view({n, 3, 3}));  // plane 3 i + j holds F_ij
   }
   s.x = torch::stack(x);
-  s.v = torch::stack(v);
   s.F = torch::stack(F);
   return s;
 }

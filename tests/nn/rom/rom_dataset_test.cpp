@@ -33,6 +33,16 @@ TEST(RomDataset, SplitsByMemberAndLinksEachFrameToTheNext) {
   EXPECT_EQ(data.train.next[last].item<std::int64_t>(), last);
   EXPECT_EQ(data.train.has_next[last].item<float>(), 0.0f);
   EXPECT_FLOAT_EQ(data.train.dt[0].item<float>(), float(bar.end_time / (bar.frames - 1)));
+
+  // The velocity target is the frames' own forward difference (x_{n+1} − x_n)/Δt, zero for a last frame;
+  // in every member (a member's first row follows the last row of the one before).
+  for (const SnapshotSet* set : {&data.train, &data.test}) {
+    const torch::Tensor x = set->x;
+    const torch::Tensor expected =
+        (x.index_select(0, set->next) - x) / set->dt.view({-1, 1, 1}) * set->has_next.view({-1, 1, 1});
+    EXPECT_TRUE(torch::allclose(set->frame_velocity, expected, 1e-5, 1e-6));
+    EXPECT_GT(set->frame_velocity.abs().max().item<float>(), 0.1f);
+  }
 }
 
 TEST(RomDataset, EncoderPointsAreADeterministicIncreasingSubset) {
