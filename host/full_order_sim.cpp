@@ -10,6 +10,7 @@
 #include "host/neural_materials.h"
 #include "host/stage_clock.h"
 #include "kernels/core/memory.h"
+#include "kernels/mpm/tracers.h"
 
 namespace romp {
 
@@ -100,6 +101,13 @@ void FullOrderSim::substep(float dt) {
   }
   if (inputs_.plastic()) timed([&] { mpm::project_plasticity(exec_, particles, step); });
   if (neural_) timed([&] { neural_->project_plasticity(exec_, particles, step); });
+  if (tracer_x_.size() > 0) {
+    const Index tracers = tracer_x_.size() / 3;
+    timed([&] {
+      mpm::advect_tracers(exec_, Vec3Planes<float>(tracer_x_.data(), tracers), Vec3Planes<float>(tracer_v_.data(), tracers),
+                          grid, step);
+    });
+  }
 
   time_ += dt;
   ++steps_;
@@ -119,6 +127,14 @@ void FullOrderSim::substep(float dt) {
     memory::copy(&id, Backend::Cpu, particles_.view().id.data() + slot, exec_.backend, sizeof id, exec_.stream);
     return std::pair<std::int64_t, std::string>(id, fmt::format("particle {}", id));
   });
+}
+
+void FullOrderSim::set_tracers(const std::vector<float>& X) {
+  ROMP_CHECK(!X.empty() && X.size() % 3 == 0, fmt::format("tracer positions come as 3 planes, got {} values", X.size()));
+  tracer_x_ = DeviceBuffer<float>::from_host(exec_.backend, X, exec_.stream);
+  tracer_v_ = DeviceBuffer<float>::from_host(exec_.backend, std::vector<float>(X.size(), 0.0f), exec_.stream);
+  // Last in the substep: the grid's velocities stay as the update left them until the next rebuild.
+  if (stage_seconds_.back().first != "tracers") stage_seconds_.emplace_back("tracers", 0.0);
 }
 
 void FullOrderSim::release_ended_dirichlet_groups() {

@@ -162,6 +162,11 @@ int main(int argc, char** argv) {
   run->add_flag("--deterministic", deterministic, "Bitwise reproducible (CPU, one thread)");
   run->add_flag("--ply", run_options.ply, "Also write a PLY point cloud per frame");
   run->add_flag("!--no-progress", run_options.progress, "No progress bar");
+  run->add_option("--output-points", run_options.output_points,
+                  "Write the frames at the material points of this snapshot (e.g. a finer sampling of the same "
+                  "body) instead of the scene's: decoded by the map with --rom (super-resolution), carried by "
+                  "the grid velocity as tracers otherwise (x and v)")
+      ->check(CLI::ExistingFile);
   run->add_option("--set", sets, "Override a declared parameter: name=value (repeatable)");
   run->add_option("--law", law_assignments, law_help);
   romp::run::ReducedRunOptions reduced_options;

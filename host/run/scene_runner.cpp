@@ -20,6 +20,7 @@
 #include "host/run/simulation.h"
 #include "host/scene/scene_setup.h"
 #include "host/scene/toml_reader.h"
+#include "nn/snapshot_reader.h"
 #include "nn/snapshot_layout.h"
 
 namespace romp::run {
@@ -31,12 +32,23 @@ namespace fs = std::filesystem;
 // few enough that a fast simulation cannot pile up frames in memory.
 constexpr std::size_t kQueuedFrames = 2;
 
-io::SnapshotHeader snapshot_header(const scene::Scene& scene, const mpm::ParticleInit& particles) {
+// The header of the run's snapshot: the material points' reference state is `particles`', or that of
+// the snapshot `output_points` when the frames are written at its points.
+io::SnapshotHeader snapshot_header(const scene::Scene& scene, const mpm::ParticleInit& particles,
+                                   const std::string& output_points) {
   io::SnapshotHeader header;
-  header.X = particles.x;
-  header.mass = particles.mass;
-  header.volume0 = particles.volume0;
-  header.material = particles.material;
+  if (output_points.empty()) {
+    header.X = particles.x;
+    header.mass = particles.mass;
+    header.volume0 = particles.volume0;
+    header.material = particles.material;
+  } else {
+    const io::SnapshotHeader points = io::SnapshotReader(output_points).header();
+    header.X = points.X;
+    header.mass = points.mass;
+    header.volume0 = points.volume0;
+    header.material = points.material;
+  }
   header.scene = scene.resolved_text;
   for (const auto& [name, value] : scene.parameters) {
     header.parameter_names.push_back(name);
@@ -59,14 +71,17 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   const auto start = std::chrono::steady_clock::now();
   RunResult result;
   const std::string output = options.output.empty() ? scene.output.file : options.output;
-  const io::FieldMask fields = io::parse_fields(scene.output.fields);
+  io::FieldMask fields = io::parse_fields(scene.output.fields);
   const bool ply = scene.output.ply || options.ply;
   const std::string checkpoint_file = io::checkpoint_path(output);
 
   if (options.resume && options.make_reduced)
     throw Error("--resume continues full-order runs; a reduced-order run is fast to repeat from the start");
+  const bool at_points = !options.output_points.empty();
+  if (options.resume && at_points)
+    throw Error("--resume continues runs of the scene's material points; a checkpoint holds no tracers");
   scene::SceneSetup setup = scene::build_scene(scene);
-  const io::SnapshotHeader header = snapshot_header(scene, setup.particles);
+  const io::SnapshotHeader header = snapshot_header(scene, setup.particles, options.output_points);
   result.particles = setup.particles.count();
 
   const bool unfinished = fs::exists(io::partial_path(output)) && fs::exists(checkpoint_file);
@@ -106,14 +121,19 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
     spdlog::info("resuming {} after frame {} (t = {} s)", output, first_frame, restored_time);
   } else {
     if (options.resume) spdlog::info("no unfinished run of {} to resume; starting at frame 0", output);
-    writer = std::make_unique<io::SnapshotWriter>(output, header, fields, ply);
   }
 
   const std::unique_ptr<Simulation> simulation =
       options.make_reduced ? options.make_reduced(exec, setup)
                            : full_order_simulation(exec, setup.config, setup.particles, restored_time, restored_steps);
   Simulation& sim = *simulation;
-  const bool checkpoints = sim.resumable();
+  if (at_points) {
+    sim.track_points(header.X);
+    // x always; of the rest, what the scene asks for and the engine has at such points.
+    fields = io::kFieldX | (fields & sim.point_fields());
+  }
+  const bool checkpoints = sim.resumable() && !at_points;
+  if (!writer) writer = std::make_unique<io::SnapshotWriter>(output, header, fields, ply);
   result.first_frame = first_frame;
 
   // The I/O worker owns the writer's calls from here on: frames (with their PLY files) and
@@ -136,7 +156,7 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
         });
       }
     }
-    auto state = std::make_shared<const io::FrameData>(sim.capture());
+    auto state = std::make_shared<const io::FrameData>(at_points ? sim.capture_points() : sim.capture());
     worker.submit([&writer, state, frame, &checkpoint_file, &scene, checkpoints, domain_state] {
       writer->append_frame(*state);
       if (checkpoints)

@@ -22,6 +22,10 @@ struct RunOptions {
   bool ply = false;              // PLY per frame even if the scene does not ask for it
   bool progress = true;
   std::int64_t stop_at_frame = -1;  // >= 0: stop after this frame, leaving a resumable partial output
+  // A snapshot whose material points (/particles) the frames are written at instead of the scene's:
+  // decoded by the map in a reduced-order run, carried as tracers in a full-order one (Simulation::
+  // track_points). Empty: the scene's material points.
+  std::string output_points;
   // Set for a reduced-order run: builds its simulation from the scene's setup (the model it needs is
   // the caller's business). Empty: the full-order engine.
   std::function<std::unique_ptr<Simulation>(const Exec&, const scene::SceneSetup&)> make_reduced;

@@ -25,6 +25,16 @@ class FullOrderRun final : public Simulation {
     frame.C = sim_.particles().affine_velocities_in_initial_order(sim_.exec());
     return frame;
   }
+  void track_points(const std::vector<float>& X) override { sim_.set_tracers(X); }
+  io::FrameData capture_points() override {
+    io::FrameData frame;
+    frame.time = sim_.time();
+    frame.step = sim_.steps();
+    frame.x = sim_.tracer_positions_on_host();
+    frame.v = sim_.tracer_velocities_on_host();
+    return frame;
+  }
+  io::FieldMask point_fields() const override { return io::kFieldX | io::kFieldV; }
   double time() const override { return sim_.time(); }
   std::int64_t steps() const override { return sim_.steps(); }
   std::vector<std::pair<std::string, double>> stage_seconds() const override { return sim_.stage_seconds(); }
@@ -61,17 +71,10 @@ class ReducedRun final : public Simulation {
       : sim_(exec, config, particles, std::move(map), std::move(xhat), options), X_(particles.x) {}
 
   void advance_to(double t) override { sim_.advance_to(t); }
-  io::FrameData capture() override {
-    ReducedSim::DecodedState state = sim_.decode(X_);
-    io::FrameData frame;
-    frame.time = sim_.time();
-    frame.step = sim_.steps();
-    frame.C.assign(3 * state.x.size(), 0.0f);
-    frame.x = std::move(state.x);
-    frame.v = std::move(state.v);
-    frame.F = std::move(state.F);
-    return frame;
-  }
+  io::FrameData capture() override { return decoded_at(X_); }
+  void track_points(const std::vector<float>& X) override { points_X_ = X; }
+  io::FrameData capture_points() override { return decoded_at(points_X_); }
+  io::FieldMask point_fields() const override { return io::kFieldX | io::kFieldV | io::kFieldF | io::kFieldC; }
   double time() const override { return sim_.time(); }
   std::int64_t steps() const override { return sim_.steps(); }
   std::vector<std::pair<std::string, double>> stage_seconds() const override { return sim_.stage_seconds(); }
@@ -91,8 +94,21 @@ class ReducedRun final : public Simulation {
   }
 
  private:
+  io::FrameData decoded_at(const std::vector<float>& X) {
+    ReducedSim::DecodedState state = sim_.decode(X);
+    io::FrameData frame;
+    frame.time = sim_.time();
+    frame.step = sim_.steps();
+    frame.C.assign(3 * state.x.size(), 0.0f);
+    frame.x = std::move(state.x);
+    frame.v = std::move(state.v);
+    frame.F = std::move(state.F);
+    return frame;
+  }
+
   ReducedSim sim_;
-  std::vector<float> X_;  // the material points' reference positions
+  std::vector<float> X_;         // the material points' reference positions
+  std::vector<float> points_X_;  // track_points' points
 };
 
 }  // namespace

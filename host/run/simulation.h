@@ -37,6 +37,14 @@ class Simulation {
   // The state of the particle domains besides the particles (empty without domains): what embedded
   // meshes follow (the corners) and what a checkpoint needs with the particles.
   virtual DomainState domain_state() { return {}; }
+  // Frames at other points than the material points (RunOptions::output_points): `X` (3 planes) in the
+  // reference configuration, given before the first advance. The reduced engine decodes x, v and F
+  // there (the ROM paper's super-resolution); the full-order engine carries them as tracers through its
+  // grid velocity (x and v: the paper's tracer-particle baseline, Sec. 5.2.1).
+  virtual void track_points(const std::vector<float>& X) = 0;
+  virtual io::FrameData capture_points() = 0;
+  // The fields capture_points fills.
+  virtual io::FieldMask point_fields() const = 0;
   // Lines for the end-of-run report about solver health (e.g. iterations that did not converge).
   virtual std::vector<std::string> diagnostics() const { return {}; }
 };

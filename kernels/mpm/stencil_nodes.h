@@ -26,8 +26,15 @@ struct StencilNodes {
   // activated by SparseGrid::rebuild from the same positions, so the look-up always succeeds.
   ROMP_HD Index node(int i, int j, int k) const {
     const int n0 = base[0] + i, n1 = base[1] + j, n2 = base[2] + k;
-    const std::int32_t b = block[n0 / kBlockSide - low_block[0]][n1 / kBlockSide - low_block[1]][n2 / kBlockSide - low_block[2]];
-    return Index(b) * kNodesPerBlock + local_node(n0, n1, n2);
+    return Index(block_of(n0, n1, n2)) * kNodesPerBlock + local_node(n0, n1, n2);
+  }
+
+  // Whether node base + (i, j, k) lies in an active block: for points the grid was not built from.
+  ROMP_HD bool active(int i, int j, int k) const { return block_of(base[0] + i, base[1] + j, base[2] + k) >= 0; }
+
+ private:
+  ROMP_HD std::int32_t block_of(int n0, int n1, int n2) const {
+    return block[n0 / kBlockSide - low_block[0]][n1 / kBlockSide - low_block[1]][n2 / kBlockSide - low_block[2]];
   }
 };
 

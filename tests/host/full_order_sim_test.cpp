@@ -485,5 +485,51 @@ TEST(FullOrderSim, NonFiniteStateStopsWithStageAndParticle) {
   }
 }
 
+
+// Tracers (the tracer-particle baseline of ROM super-resolution) interpolate the grid velocity as G2P
+// does, so tracers started at the material points of a spinning, shearing, falling body follow the
+// particles to rounding, and stage "tracers" is timed; a tracer beyond the material's reach stays put.
+TEST(FullOrderSim, TracersAtTheMaterialPointsMoveWithThemAndOthersStayAtRest) {
+  const float dx = 1.0f / 32.0f;
+  FullOrderConfig config = test::open_space_config(dx, 32, jelly(1e4f, 0.3f));
+  config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
+  config.fixed_dt = 1e-4f;
+  mpm::ParticleInit init = test::lattice_box({0.40f, 0.45f, 0.40f}, {0.55f, 0.60f, 0.55f}, dx, 2, kJellyDensity);
+  const Index n = init.count();
+  for (Index p = 0; p < n; ++p) {
+    const Vec3<float> r = test::plane_vector(init.x, n, p) - Vec3<float>::constant(0.475f);
+    // A spin about z and a shear: velocity that deforms the body, not only moves it.
+    test::set_plane_vector(init.v, n, p, Vec3<float>(-3.0f * r[1] + 2.0f * r[2], 3.0f * r[0], 0.5f));
+  }
+  std::vector<float> tracers(3 * (n + 1));
+  const Vec3<float> far(0.15f, 0.8f, 0.2f);
+  for (int a = 0; a < 3; ++a) {
+    std::copy_n(init.x.begin() + a * n, n, tracers.begin() + a * (n + 1));
+    tracers[a * (n + 1) + n] = far[a];
+  }
+  FullOrderSim sim(test::exec(), config, init);
+  sim.set_tracers(tracers);
+  for (int s = 0; s < 40; ++s) sim.substep(1e-4f);
+
+  const std::vector<float> x = sim.particles().positions_in_initial_order(test::exec());
+  const std::vector<float> v = sim.particles().velocities_in_initial_order(test::exec());
+  const std::vector<float> tx = sim.tracer_positions_on_host(), tv = sim.tracer_velocities_on_host();
+  double moved = 0.0, position_gap = 0.0, velocity_gap = 0.0;
+  for (Index p = 0; p < n; ++p)
+    for (int a = 0; a < 3; ++a) {
+      moved = std::max(moved, double(std::abs(x[a * n + p] - init.x[a * n + p])));
+      position_gap = std::max(position_gap, double(std::abs(tx[a * (n + 1) + p] - x[a * n + p])));
+      velocity_gap = std::max(velocity_gap, double(std::abs(tv[a * (n + 1) + p] - v[a * n + p])));
+    }
+  EXPECT_GT(moved, 1e-3);  // 2 mm in 4 ms
+  EXPECT_LT(position_gap, 1e-6);
+  EXPECT_LT(velocity_gap, 1e-5);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_EQ(tx[a * (n + 1) + n], far[a]);
+    EXPECT_EQ(tv[a * (n + 1) + n], 0.0f);
+  }
+  const auto stages = sim.stage_seconds();
+  EXPECT_EQ(stages.back().first, "tracers");
+}
 }  // namespace
 }  // namespace romp

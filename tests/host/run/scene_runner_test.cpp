@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "host/full_order_sim.h"
+#include "host/io/snapshot_writer.h"
 #include "host/scene/scene_parser.h"
 #include "nn/snapshot_layout.h"
 #include "nn/snapshot_reader.h"
@@ -95,6 +96,58 @@ TEST_F(SceneRunner, ReducedRunWritesTheDecodedStateOfEveryMaterialPoint) {
       EXPECT_EQ(last.F[(4 * a) * n + p], 1.0f);
     }
   EXPECT_GT(std::fabs(last.x[0] - X[0]), 0.02f);  // it moved at 1 m/s for 0.04 s
+  o.resume = true;
+  EXPECT_THROW(run_scene(Exec::cpu(), scene, o), Error);
+}
+
+// --output-points in a reduced-order run: the map decoded at points the scene never sampled (the ROM
+// paper's super-resolution), with F.
+TEST_F(SceneRunner, OutputPointsOfAReducedRunAreDecodedThere) {
+  io::SnapshotHeader points;
+  points.X = {0.3f, 0.55f, 0.7f, 0.31f, 0.45f, 0.69f, 0.5f, 0.5f, 0.51f};  // three points, as planes
+  points.mass = points.volume0 = {1.0f, 1.0f, 1.0f};
+  points.material = {0, 0, 0};
+  io::SnapshotWriter(folder_.file("points.h5"), points, io::kFieldX).finish();
+  const scene::Scene scene = scene::parse_scene(cube_scene("jelly"), "cube.toml");
+  RunOptions o = options("decoded.h5");
+  o.output_points = folder_.file("points.h5");
+  o.make_reduced = [](const Exec& exec, const scene::SceneSetup& setup) {
+    return reduced_simulation(exec, setup.config, setup.particles, test::translation_map(), {0.0f, 0.0f, 0.0f},
+                              ReducedOptions{});
+  };
+  run_scene(Exec::cpu(), scene, o);
+  const io::SnapshotReader reader(o.output);
+  EXPECT_EQ(reader.header().X, points.X);
+  EXPECT_EQ(reader.fields(), io::kAllFields);
+  const io::FrameData last = reader.read_frame(8);
+  ASSERT_EQ(last.x.size(), 9u);
+  // g(X; x̂) = X + x̂: the three points moved by the same x̂, which moved at about 1 m/s for 0.04 s.
+  for (int a = 0; a < 3; ++a)
+    for (int p = 1; p < 3; ++p) EXPECT_NEAR(last.x[3 * a + p] - points.X[3 * a + p], last.x[3 * a] - points.X[3 * a], 1e-6f);
+  EXPECT_GT(std::fabs(last.x[0] - points.X[0]), 0.02f);
+  EXPECT_EQ(last.F[0], 1.0f);
+}
+
+// --output-points: frames at another snapshot's material points. In a full-order run they are tracers,
+// which at the scene's own material points follow the particles; the output takes their reference
+// state and holds x and v only; a checkpoint could not carry them, so no resume.
+TEST_F(SceneRunner, OutputPointsOfAFullOrderRunAreTracers) {
+  const scene::Scene scene = scene::parse_scene(cube_scene("jelly"), "cube.toml");
+  const RunOptions reference = options("reference.h5");
+  run_scene(Exec::cpu(), scene, reference);
+  RunOptions o = options("tracers.h5");
+  o.output_points = reference.output;
+  const RunResult r = run_scene(Exec::cpu(), scene, o);
+  EXPECT_EQ(r.frames_written, 8);
+  EXPECT_FALSE(fs::exists(io::checkpoint_path(o.output)));
+  const io::SnapshotReader truth(reference.output), tracers(o.output);
+  EXPECT_EQ(tracers.header().X, truth.header().X);
+  EXPECT_EQ(tracers.header().mass, truth.header().mass);
+  EXPECT_EQ(tracers.fields(), io::kFieldX | io::kFieldV);
+  ASSERT_EQ(tracers.frame_count(), truth.frame_count());
+  const io::FrameData a = tracers.read_frame(8), b = truth.read_frame(8);
+  ASSERT_EQ(a.x.size(), b.x.size());
+  for (std::size_t i = 0; i < a.x.size(); ++i) EXPECT_NEAR(a.x[i], b.x[i], 1e-6f) << "value " << i;
   o.resume = true;
   EXPECT_THROW(run_scene(Exec::cpu(), scene, o), Error);
 }
