@@ -12,6 +12,10 @@
 #   gravity-manifold  Fig. 21's comparison on the gravity cylinder (the paper's is on the tower): the
 #                     nonlinear map against the linear manifold at the same r = 4, 10 and all points
 #   torsion           Table 3: torsion-tension (r = 7), 50 and all sample points
+#   super-resolution  Table 4: the torsion map run at the paper's resolution and written at a sampling
+#                     twice as fine (romp run --output-points), against a full-order run at that
+#                     resolution; beside it the tracer-particle baseline (the fine points carried by
+#                     the coarse full-order run); 50 and all sample points
 # --epochs N: training length of each map (default 80, short of convergence on a CPU);
 # --schemes: comma-separated among lagrangian-position, lagrangian-velocity, eulerian-position,
 # eulerian-velocity (default: all four; quadrature, then projection); --samples: comma-separated sample
@@ -24,7 +28,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 romp="${ROMP:-$root/build/romp}"
-usage() { sed -n '7,23p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '7,27p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 [ $# -ge 2 ] || usage
 experiment="$1" out="$2"
 shift 2
@@ -66,7 +70,7 @@ train() {
     "${resume[@]}" "$@" > "${model%.h5}.log" 2>&1
 }
 
-# test_members SWEEP: one "index scene snapshot" line per test member.
+# test_members SWEEP: one "index scene snapshot name=value,..." line per test member.
 test_members() {
   /usr/bin/python3 - "$1/manifest.json" <<'EOF'
 import json, os, sys
@@ -74,8 +78,14 @@ manifest = json.load(open(sys.argv[1]))
 folder = os.path.dirname(sys.argv[1])
 for member in manifest["members"]:
     if member["split"] == "test":
-        print(member["index"], os.path.join(folder, member["scene"]), os.path.join(folder, member["snapshot"]))
+        values = ",".join(f"{name}={value!r}" for name, value in member["values"].items())
+        print(member["index"], os.path.join(folder, member["scene"]), os.path.join(folder, member["snapshot"]), values)
 EOF
+}
+
+# error RUN REFERENCE: the accumulated position error (%) of RUN against REFERENCE.
+error() {
+  "$romp" "${options[@]}" compare "$1" "$2" | sed -n 's/.*accumulated position error \([^%]*\)%.*/\1/p'
 }
 
 # rom_error MODEL SCHEME SAMPLES INDEX SCENE REFERENCE: runs the member reduced (unless done) and prints
@@ -90,15 +100,11 @@ rom_error() {
     echo failed
     return
   fi
-  "$romp" "${options[@]}" compare "$run" "$reference" | sed -n 's/.*accumulated position error \([^%]*\)%.*/\1/p'
+  error "$run" "$reference"
 }
 
-# cell MODEL SWEEP SCHEME SAMPLES: "mean % (worst %)" over the sweep's test members.
-cell() {
-  local values=()
-  while read -r index scene snapshot; do
-    values+=("$(rom_error "$1" "$3" "$4" "$index" "$scene" "$snapshot")")
-  done < <(test_members "$2")
+# summary VALUES...: "mean % (worst %)", or how many runs failed.
+summary() {
   /usr/bin/python3 -c '
 import sys
 values = sys.argv[1:]
@@ -107,7 +113,16 @@ if bad:
     print(f"{bad} of {len(values)} runs failed")
 else:
     numbers = [float(v) for v in values]
-    print(f"{sum(numbers) / len(numbers):.3g} % ({max(numbers):.3g} %)")' "${values[@]}"
+    print(f"{sum(numbers) / len(numbers):.3g} % ({max(numbers):.3g} %)")' "$@"
+}
+
+# cell MODEL SWEEP SCHEME SAMPLES: "mean % (worst %)" over the sweep's test members.
+cell() {
+  local values=()
+  while read -r index scene snapshot _; do
+    values+=("$(rom_error "$1" "$3" "$4" "$index" "$scene" "$snapshot")")
+  done < <(test_members "$2")
+  summary "${values[@]}"
 }
 
 # table MODEL SWEEP LABEL COUNTS...: one row per sample count (0: all), one column per scheme; --samples
@@ -131,6 +146,51 @@ table() {
   done
 }
 
+# superres_table MODEL SWEEP SCENE COUNTS...: Table 4. For each test member: the full-order run of
+# scenes/rom/SCENE at its own (finer) resolution with the member's values, the tracer baseline and the
+# reduced runs of the member written at the fine run's points, each compared with the fine run.
+superres_table() {
+  local model="$1" sweep_folder="$2" scene="$3"
+  shift 3
+  local folder="$(dirname "$model")/superres"
+  mkdir -p "$folder"
+  local index member_scene snapshot values
+  declare -A cells
+  while read -r index member_scene snapshot values; do
+    local fine="$folder/fine-m$index.h5" sets=() assignments
+    IFS=, read -r -a assignments <<< "$values"
+    for assignment in "${assignments[@]}"; do sets+=(--set "$assignment"); done
+    if [ ! -f "$fine" ]; then
+      echo "fine full-order run: $fine" >&2
+      "$romp" "${options[@]}" run --no-progress "$root/scenes/rom/$scene" "${sets[@]}" -o "$fine" \
+        > "${fine%.h5}.log" 2>&1 || { echo "failed: $fine (see ${fine%.h5}.log)" >&2; exit 1; }
+    fi
+    local tracers="$folder/tracers-m$index.h5"
+    [ -f "$tracers" ] || "$romp" "${options[@]}" run --no-progress "$member_scene" --output-points "$fine" \
+      -o "$tracers" > "${tracers%.h5}.log" 2>&1 || true
+    cells[baseline]+=" $([ -f "$tracers" ] && error "$tracers" "$fine" || echo failed)"
+    for scheme in "${scheme_list[@]}"; do
+      for samples in "$@"; do
+        local run="$folder/$(basename "$model" .h5)-$scheme-s$samples-m$index.h5"
+        [ -f "$run" ] || "$romp" "${options[@]}" run --no-progress "$member_scene" --rom "$model" \
+          --quadrature "${scheme%-*}" --projection "${scheme#*-}" --samples "$samples" --output-points "$fine" \
+          -o "$run" > "${run%.h5}.log" 2>&1 || true
+        cells[$scheme-$samples]+=" $([ -f "$run" ] && error "$run" "$fine" || echo failed)"
+      done
+    done
+  done < <(test_members "$sweep_folder")
+  echo "| scheme | sample points | position error against the fine full-order run |"
+  echo "|---|---|---|"
+  for scheme in "${scheme_list[@]}"; do
+    for samples in "$@"; do
+      # shellcheck disable=SC2086  # a cell is a list of numbers
+      echo "| $scheme | $([ "$samples" = 0 ] && echo all || echo "$samples") | $(summary ${cells[$scheme-$samples]}) |"
+    done
+  done
+  # shellcheck disable=SC2086
+  echo "| tracer-particle baseline | - | $(summary ${cells[baseline]}) |"
+}
+
 case "$experiment" in
   gravity-samples)
     sweep gravity gravity_cylinder.toml 's/^dx = 0.002 .*/dx = 0.004/'
@@ -148,6 +208,13 @@ case "$experiment" in
     sweep torsion torsion_tension.toml 's/^dx = 0.00125 .*/dx = 0.0025/'
     train "$out/torsion/mlp_r7.h5" "$out/torsion/sweep" --latent 7
     table "$out/torsion/mlp_r7.h5" "$out/torsion/sweep" map 50 0
+    ;;
+  super-resolution)
+    sweep torsion torsion_tension.toml 's/^dx = 0.00125 .*/dx = 0.0025/'
+    train "$out/torsion/mlp_r7.h5" "$out/torsion/sweep" --latent 7
+    counts=(50 0)
+    [ -z "$samples" ] || IFS=, read -r -a counts <<< "$samples"
+    superres_table "$out/torsion/mlp_r7.h5" "$out/torsion/sweep" torsion_tension.toml "${counts[@]}"
     ;;
   *) usage ;;
 esac
