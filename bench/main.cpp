@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
   app.add_option("--name", stem, "File stem of the records (default: bench-<UTC time>)");
   std::vector<std::string> sets;
   app.add_option("--scene", options.scene, "rom suite: the scene file")->check(CLI::ExistingFile);
-  app.add_option("--set", sets, "rom suite: override a declared scene parameter; stability suite: max_youngs, substeps, seconds; name=value (repeatable)");
+  app.add_option("--set", sets, "rom suite: override a declared scene parameter; stability suite: min_youngs, max_youngs, implicit, enriched, substeps, seconds; name=value (repeatable)");
   app.add_option("--rom-model", options.rom_model, "rom suite: a model trained on the scene's sweep (romp train-rom)")
       ->check(CLI::ExistingFile);
   app.add_flag_callback("--list", [] {

@@ -3,7 +3,7 @@
 // budget; each case is recorded as acceptable or not (ends finite with bounded energy, or stops with
 // a message), with its status, the simulated share of its duration and its energy ratio.
 //
-// --set max_youngs=X limits E to at most X; --set implicit=0|1 and --set enriched=0|1 keep one
+// --set min_youngs=X and --set max_youngs=X limit E to [X_min, X_max]; --set implicit=0|1 and --set enriched=0|1 keep one
 // integrator or one particle variant; --set substeps=N and --set seconds=S set each case's budget
 // (default 20000 substeps, 20 s).
 #include <fmt/format.h>
@@ -38,6 +38,7 @@ void run_stability_suite(Context& context) {
   StabilityBudget budget;
   budget.max_substeps = std::int64_t(parameter(options, "substeps", 20000));
   budget.max_wall_seconds = parameter(options, "seconds", 20.0);
+  const double min_youngs = parameter(options, "min_youngs", 0.0);
   const double max_youngs = parameter(options, "max_youngs", 1e9);
   const Exec exec = context.execs().back();  // the GPU when asked for, else the CPU at its most threads
 
@@ -45,7 +46,7 @@ void run_stability_suite(Context& context) {
   for (const material::MaterialModel model : {material::MaterialModel::FixedCorotated, material::MaterialModel::NeoHookean,
                                               material::MaterialModel::HenckyStVK})
     for (const double youngs : {1e4, 1e6, 1e8, 1e9}) {
-      if (youngs > max_youngs) continue;
+      if (youngs < min_youngs || youngs > max_youngs) continue;
       for (const double poisson : {0.0, 0.3, 0.45, 0.49})
         for (const StabilityScenario scenario :
              {StabilityScenario::FreeFallBounce, StabilityScenario::CompressRelease, StabilityScenario::ForcedInversion,
