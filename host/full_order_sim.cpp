@@ -10,7 +10,6 @@
 #include "host/neural_materials.h"
 #include "host/stage_clock.h"
 #include "kernels/core/memory.h"
-#include "kernels/mpm/tracers.h"
 
 namespace romp {
 
@@ -24,7 +23,10 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
       inputs_(exec, config_) {
   check_particle_tables(config_, init.material, init.dirichlet_group);
   check_particle_domains(config_, init);
-  if (!init.domains.empty()) domains_.emplace(exec.backend, init.domains);
+  if (!init.domains.empty()) {
+    domains_.emplace(exec.backend, init.domains);
+    domain_layout_ = init.domains;
+  }
   released_.assign(config_.dirichlet.size(), false);
   if (config_.integrator == Integrator::Implicit) implicit_.emplace(exec.backend, config_.implicit);
   auto neural = std::make_unique<NeuralMaterials>(exec, config_.materials, particles_.count());
@@ -101,13 +103,7 @@ void FullOrderSim::substep(float dt) {
   }
   if (inputs_.plastic()) timed([&] { mpm::project_plasticity(exec_, particles, step); });
   if (neural_) timed([&] { neural_->project_plasticity(exec_, particles, step); });
-  if (tracer_x_.size() > 0) {
-    const Index tracers = tracer_x_.size() / 3;
-    timed([&] {
-      mpm::advect_tracers(exec_, Vec3Planes<float>(tracer_x_.data(), tracers), Vec3Planes<float>(tracer_v_.data(), tracers),
-                          grid, step);
-    });
-  }
+  if (tracers_) timed([&] { tracers_->advect(exec_, grid, step); });
 
   time_ += dt;
   ++steps_;
@@ -130,11 +126,19 @@ void FullOrderSim::substep(float dt) {
 }
 
 void FullOrderSim::set_tracers(const std::vector<float>& X) {
-  ROMP_CHECK(!X.empty() && X.size() % 3 == 0, fmt::format("tracer positions come as 3 planes, got {} values", X.size()));
-  tracer_x_ = DeviceBuffer<float>::from_host(exec_.backend, X, exec_.stream);
-  tracer_v_ = DeviceBuffer<float>::from_host(exec_.backend, std::vector<float>(X.size(), 0.0f), exec_.stream);
+  tracers_.emplace(exec_, X, domain_layout_);
   // Last in the substep: the grid's velocities stay as the update left them until the next rebuild.
   if (stage_seconds_.back().first != "tracers") stage_seconds_.emplace_back("tracers", 0.0);
+}
+
+std::vector<float> FullOrderSim::tracer_positions_on_host() const {
+  ROMP_CHECK(tracers_.has_value(), "tracer positions asked for before set_tracers");
+  return tracers_->positions(exec_, domains_ ? &*domains_ : nullptr);
+}
+
+std::vector<float> FullOrderSim::tracer_velocities_on_host() const {
+  ROMP_CHECK(tracers_.has_value(), "tracer velocities asked for before set_tracers");
+  return tracers_->velocities(exec_, domains_ ? &*domains_ : nullptr);
 }
 
 void FullOrderSim::release_ended_dirichlet_groups() {

@@ -11,7 +11,7 @@
 #include "host/implicit_grid_solver.h"
 #include "host/sim_config.h"
 #include "host/step_inputs.h"
-#include "kernels/core/device_buffer.h"
+#include "host/tracer_set.h"
 #include "kernels/core/error.h"
 #include "kernels/core/exec.h"
 #include "kernels/mpm/particle_domains.h"
@@ -63,12 +63,12 @@ class FullOrderSim {
   // The implicit solver's counts; nullptr for the explicit integrator.
   const ImplicitSolveTotals* implicit_totals() const { return implicit_ ? &implicit_->totals() : nullptr; }
 
-  // Tracers (kernels/mpm/tracers.h): passive points starting at `X` (3 planes), carried by the grid's
-  // velocity from the next substep on; they do not act on the simulation. Their positions and velocities
-  // in the order of `X`.
+  // Tracers (host/tracer_set.h): passive points starting at `X` (3 planes), carried from now on by the
+  // domains that hold them or else by the grid's velocity; they do not act on the simulation. Their
+  // positions and velocities in the order of `X`.
   void set_tracers(const std::vector<float>& X);
-  std::vector<float> tracer_positions_on_host() const { return tracer_x_.to_host(exec_.stream); }
-  std::vector<float> tracer_velocities_on_host() const { return tracer_v_.to_host(exec_.stream); }
+  std::vector<float> tracer_positions_on_host() const;
+  std::vector<float> tracer_velocities_on_host() const;
 
   // Seconds spent in each stage so far, in pipeline order (only the stages this scene runs).
   std::vector<std::pair<std::string, double>> stage_seconds() const;
@@ -87,7 +87,8 @@ class FullOrderSim {
   StepInputs inputs_;
   std::optional<ImplicitGridSolver> implicit_;  // with Integrator::Implicit only
   std::unique_ptr<NeuralMaterials> neural_;     // when some material is a learned law
-  DeviceBuffer<float> tracer_x_, tracer_v_;     // 3 planes each; empty without tracers
+  mpm::DomainInit domain_layout_;               // the domains' reference corners, for tracers to ride in
+  std::optional<TracerSet> tracers_;
   double time_ = 0.0;
   std::int64_t steps_ = 0;
   std::vector<std::pair<std::string, double>> stage_seconds_;

@@ -1,5 +1,6 @@
 // The implicit step's grid operator as single-source functors: particles gather δu and scatter
-// V⁰ δP Fᵀ ∇w with atomics, as P2G scatters its forces; nodes finish the products. See implicit_solve.h.
+// V⁰ δP Fᵀ ∇w (kernels/math/scatter.h), as P2G scatters its forces; nodes finish the products. See
+// implicit_solve.h.
 #include "kernels/mpm/implicit_solve.h"
 
 #include <cstdint>
@@ -9,6 +10,7 @@
 #include "kernels/core/for_each.h"
 #include "kernels/core/memory.h"
 #include "kernels/math/atomic_planes.h"
+#include "kernels/math/scatter.h"
 #include "kernels/mpm/bspline.h"
 #include "kernels/mpm/grid_boundary.h"
 #include "kernels/mpm/stencil_nodes.h"
@@ -207,6 +209,7 @@ ROMP_HD_INLINE bool stiff_domain_particle(const ParticleView& particles, Index p
 
 struct DomainStiffness {
   ImplicitSystem system;
+  Scatter scatter;
 
   ROMP_HD void operator()(Index p) const {
     const ParticleView& particles = system.particles;
@@ -222,7 +225,7 @@ struct DomainStiffness {
     const Mat3<float> stress = scale * system.stiffness[p].apply(dF);
     for (int a = 0; a < kDomainCorners; ++a) {
       const Index entry = kDomainCorners * d + a;
-      atomic_add(system.corner_force, domains.corner[entry], stress * domains.gradient.load(entry));
+      scatter.add(system.corner_force, domains.corner[entry], stress * domains.gradient.load(entry));
     }
   }
 };
@@ -233,6 +236,7 @@ struct ScatterCornerForces {
   Vec3Planes<const float> force;
   Span<float> out;
   Index nodes;
+  Scatter scatter;
 
   ROMP_HD void operator()(Index c) const {
     if (domains.dirichlet_group[c] != kNoDirichletGroup) return;
@@ -246,7 +250,7 @@ struct ScatterCornerForces {
     const StencilNodes nodes_of(stencil, grid.table);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k) atomic_add(out_entries, nodes_of.node(i, j, k), stencil.weight(i, j, k) * f);
+        for (int k = 0; k < 3; ++k) scatter.add(out_entries, nodes_of.node(i, j, k), stencil.weight(i, j, k) * f);
   }
 };
 
@@ -329,9 +333,10 @@ void add_domain_stiffness(const Exec& exec, const ImplicitSystem& system, Span<c
   for (int a = 0; a < 3; ++a)
     memory::fill_zero(system.corner_force.data() + a * domains.corners, exec.backend,
                       std::size_t(domains.corners) * sizeof(float), exec.stream);
-  for_each(exec, system.particles.count, DomainStiffness{system});
+  const Scatter scatter = Scatter::for_exec(exec);
+  for_each(exec, system.particles.count, DomainStiffness{system, scatter});
   for_each(exec, domains.corners,
-           ScatterCornerForces{domains, system.grid, Vec3Planes<const float>(system.corner_force), out, nodes});
+           ScatterCornerForces{domains, system.grid, Vec3Planes<const float>(system.corner_force), out, nodes, scatter});
 }
 
 struct InvertDiagonal {
@@ -367,6 +372,7 @@ struct ApplyStiffness {
   Span<const float> x;
   Span<float> Kx;
   Index entries;
+  Scatter scatter;
 
   ROMP_HD void operator()(const ParticleStencil& s, const Mat3<float>& F, const PrincipalStiffness<float>& stiffness,
                           float scale) const {
@@ -380,7 +386,7 @@ struct ApplyStiffness {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         for (int k = 0; k < 3; ++k)
-          atomic_add(entry_vectors(Kx, entries), s.nodes.node(i, j, k), force_moment * s.weight_gradient(i, j, k));
+          scatter.add(entry_vectors(Kx, entries), s.nodes.node(i, j, k), force_moment * s.weight_gradient(i, j, k));
   }
 };
 
@@ -441,7 +447,7 @@ void apply_operator(const Exec& exec, const ImplicitSystem& system, Span<const f
   memory::fill_zero(out.data(), exec.backend, out.size() * sizeof(float), exec.stream);
   if (with_stiffness) {
     for_each(exec, system.particles.count,
-             StiffnessPass<ApplyStiffness>{system, ApplyStiffness{x, out, system.entries()}});
+             StiffnessPass<ApplyStiffness>{system, ApplyStiffness{x, out, system.entries(), Scatter::for_exec(exec)}});
     add_domain_stiffness(exec, system, x, out);
   }
   for_each(exec, system.entries(), FinishOperator{system, x, out});

@@ -5,7 +5,6 @@
 #include <limits>
 #include <string>
 
-#include "kernels/math/atomic_planes.h"
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
 #include "kernels/core/memory.h"
@@ -14,6 +13,7 @@
 #include "kernels/material/stretch_clamp.h"
 #include "kernels/material/volume.h"
 #include "kernels/math/finite.h"
+#include "kernels/math/scatter.h"
 #include "kernels/svd/svd3.h"
 #include "kernels/mpm/grid_boundary.h"
 #include "kernels/mpm/bspline.h"
@@ -54,6 +54,7 @@ struct ParticlesToCorners {
   ParticleView particles;
   DomainView domains;
   StepParams step;
+  Scatter scatter;
 
   ROMP_HD void operator()(Index p) const {
     if (!particles.has_domain(p)) return;
@@ -74,9 +75,9 @@ struct ParticlesToCorners {
       const Index entry = kDomainCorners * d + a;
       const Index c = domains.corner[entry];
       const float w = domains.weight[entry];
-      atomic_add(&domains.mass[c], w * mass);
-      atomic_add(domains.momentum, c, w * momentum);
-      atomic_add(domains.force, c, w * load_force - volume_stress * domains.gradient.load(entry));
+      scatter.add(&domains.mass[c], w * mass);
+      scatter.add(domains.momentum, c, w * momentum);
+      scatter.add(domains.force, c, w * load_force - volume_stress * domains.gradient.load(entry));
     }
   }
 };
@@ -85,6 +86,7 @@ struct CornersToGrid {
   DomainView domains;
   GridView grid;
   StepParams step;
+  Scatter scatter;
 
   ROMP_HD void operator()(Index c) const {
     const float mass = domains.mass[c];
@@ -108,9 +110,9 @@ struct CornersToGrid {
         for (int k = 0; k < 3; ++k) {
           const float w = stencil.weight(i, j, k);
           const Index n = nodes.node(i, j, k);
-          atomic_add(&grid.mass[n], w * mass);
-          atomic_add(grid.velocity, n, w * impulse);
-          atomic_add(grid.velocity_old, n, w * momentum);
+          scatter.add(&grid.mass[n], w * mass);
+          scatter.add(grid.velocity, n, w * impulse);
+          scatter.add(grid.velocity_old, n, w * momentum);
         }
   }
 };
@@ -324,12 +326,12 @@ void particles_to_corners(const Exec& exec, const ParticleView& particles, const
   }
   const float at_rest = 1.0f;
   memory::copy(domains.stiffening.data(), exec.backend, &at_rest, Backend::Cpu, sizeof at_rest, exec.stream);
-  for_each(exec, particles.count, ParticlesToCorners{particles, domains, step});
+  for_each(exec, particles.count, ParticlesToCorners{particles, domains, step, Scatter::for_exec(exec)});
 }
 
 void corners_to_grid(const Exec& exec, const DomainView& domains, const GridView& grid, const StepParams& step) {
   ROMP_CHECK(grid.keeps_old_velocity(), "corners_to_grid needs a grid that keeps the velocity before forces (FLIP)");
-  for_each(exec, domains.corners, CornersToGrid{domains, grid, step});
+  for_each(exec, domains.corners, CornersToGrid{domains, grid, step, Scatter::for_exec(exec)});
 }
 
 void grid_to_corners(const Exec& exec, const DomainView& domains, const GridView& grid, const StepParams& step) {

@@ -118,6 +118,75 @@ TEST(ParticleDomains, EnrichmentFollowsTheDeformation) {
   EXPECT_EQ(sim.enriched_share(), 0.0);
 }
 
+// The domain transfers add without atomics on one CPU thread (kernels/math/scatter.h) and with them
+// on several: the same squeezed, enriching body ends in the same place either way, to rounding.
+TEST(ParticleDomains, OneThreadAndManyThreadsAgree) {
+  const float dx = 1.0f / 32.0f;
+  FullOrderConfig config = test::open_space_config(dx, 32, rubber(2e4f));
+  mpm::ParticleInit init = test::lattice_box_with_domains({0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}, dx, 2, kDensity);
+  const Index n = init.count();
+  for (Index p = 0; p < n; ++p) {
+    const float height = init.x[n + p] - 0.5f;
+    test::set_plane_vector(init.v, n, p, Vec3<float>(0.0f, -8.0f * height / 0.05f, 0.0f));
+  }
+  std::vector<std::vector<float>> positions;
+  for (const int threads : {1, 3}) {
+    FullOrderSim sim(test::exec_with_threads(threads), config, init);
+    double largest_share = 0.0;
+    while (sim.time() < 0.02) {  // mid-squeeze
+      sim.substep(sim.stable_dt());
+      largest_share = std::max(largest_share, sim.enriched_share());
+    }
+    EXPECT_GT(largest_share, 0.0) << threads << " threads";
+    positions.push_back(sim.particles().positions_in_initial_order(sim.exec()));
+  }
+  double moved = 0.0, gap = 0.0;
+  for (std::size_t i = 0; i < positions[0].size(); ++i) {
+    moved = std::max(moved, double(std::abs(positions[0][i] - init.x[i])));
+    gap = std::max(gap, double(std::abs(positions[0][i] - positions[1][i])));
+  }
+  EXPECT_GT(moved, 5e-3);
+  EXPECT_LT(gap, 1e-6);  // 16 float ulps at 0.5 m: summation order differs between thread counts
+}
+
+// Tracers in a domain body ride in the domains (host/tracer_set.h): started at the material points of a
+// squeezed body whose corners enrich - and so leave the grid - they follow the particles to rounding,
+// and a tracer outside every domain is carried by the grid.
+TEST(ParticleDomains, TracersRideInTheDomainsThroughEnrichment) {
+  const float dx = 1.0f / 32.0f;
+  FullOrderConfig config = test::open_space_config(dx, 32, rubber(2e4f));
+  mpm::ParticleInit init = test::lattice_box_with_domains({0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}, dx, 2, kDensity);
+  const Index n = init.count();
+  for (Index p = 0; p < n; ++p) {
+    const float height = init.x[n + p] - 0.5f;
+    test::set_plane_vector(init.v, n, p, Vec3<float>(0.0f, -8.0f * height / 0.05f, 0.0f));
+  }
+  std::vector<float> tracers(3 * (n + 1));
+  for (int a = 0; a < 3; ++a) {
+    std::copy_n(init.x.begin() + a * n, n, tracers.begin() + a * (n + 1));
+    tracers[a * (n + 1) + n] = 0.2f;  // far from the body: the grid's, at rest there
+  }
+  FullOrderSim sim(test::exec(), config, init);
+  sim.set_tracers(tracers);
+  double largest_share = 0.0;
+  while (sim.time() < 0.02) {
+    sim.substep(sim.stable_dt());
+    largest_share = std::max(largest_share, sim.enriched_share());
+  }
+  EXPECT_GT(largest_share, 0.1);
+  const std::vector<float> x = sim.particles().positions_in_initial_order(sim.exec());
+  const std::vector<float> tx = sim.tracer_positions_on_host();
+  double moved = 0.0, gap = 0.0;
+  for (Index p = 0; p < n; ++p)
+    for (int a = 0; a < 3; ++a) {
+      moved = std::max(moved, double(std::abs(x[a * n + p] - init.x[a * n + p])));
+      gap = std::max(gap, double(std::abs(tx[a * (n + 1) + p] - x[a * n + p])));
+    }
+  EXPECT_GT(moved, 5e-3);
+  EXPECT_LT(gap, 1e-6);
+  for (int a = 0; a < 3; ++a) EXPECT_EQ(tx[a * (n + 1) + n], 0.2f);
+}
+
 // Mean distance of x from the rigidly best-aligned reference x0 (Kabsch: the rotation U Vᵀ of the
 // SVD of the covariance), over the bounding-box diagonal: the rest-state error of the paper's Table 1.
 Vec3<double> point(const std::vector<float>& planes, Index n, Index p) {
