@@ -25,6 +25,14 @@ MaterialSpec jelly(float young, float poisson) {
                       kJellyDensity};
 }
 
+// Jelly (E = 1e4 Pa, nu = 0.3) in open space at cell width dx under gravity, with a fixed 1e-4 s step.
+FullOrderConfig falling_jelly_config(float dx) {
+  FullOrderConfig config = test::open_space_config(dx, 32, jelly(1e4f, 0.3f));
+  config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
+  config.fixed_dt = 1e-4f;
+  return config;
+}
+
 struct Momenta {
   Vec3<double> linear{0.0, 0.0, 0.0};
   Vec3<double> angular{0.0, 0.0, 0.0};
@@ -56,9 +64,7 @@ Momenta momenta(FullOrderSim& sim, const std::vector<float>& mass) {
 // of the displacement (1.2e-4 m) stays 20 times larger than the tolerance, so a wrong g shows.
 TEST(FullOrderSim, FreeFallFollowsTheParabola) {
   const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = test::open_space_config(dx, 32, jelly(1e4f, 0.3f));
-  config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
-  config.fixed_dt = 1e-4f;
+  const FullOrderConfig config = falling_jelly_config(dx);
   mpm::ParticleInit init = test::lattice_box({0.40f, 0.55f, 0.40f}, {0.50f, 0.65f, 0.50f}, dx, 2, kJellyDensity);
   const Vec3<float> v0(0.3f, 0.5f, -0.2f);
   const Index n = init.count();
@@ -491,9 +497,7 @@ TEST(FullOrderSim, NonFiniteStateStopsWithStageAndParticle) {
 // particles to rounding, and stage "tracers" is timed; a tracer beyond the material's reach stays put.
 TEST(FullOrderSim, TracersAtTheMaterialPointsMoveWithThemAndOthersStayAtRest) {
   const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = test::open_space_config(dx, 32, jelly(1e4f, 0.3f));
-  config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
-  config.fixed_dt = 1e-4f;
+  const FullOrderConfig config = falling_jelly_config(dx);
   mpm::ParticleInit init = test::lattice_box({0.40f, 0.45f, 0.40f}, {0.55f, 0.60f, 0.55f}, dx, 2, kJellyDensity);
   const Index n = init.count();
   for (Index p = 0; p < n; ++p) {

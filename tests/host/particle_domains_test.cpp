@@ -97,47 +97,50 @@ TEST_P(DomainsAtEnrichment, ConserveLinearMomentumOfASpinningBody) {
   EXPECT_LE(norm(linear_momentum(sim, init.mass) - before), 1e-5 * norm(before));
 }
 
-// A body squeezed hard by its initial velocity (its height shrinking at 8 m/s per 5 cm) enriches
-// the corners of its most distorted particles, and gives them back to the grid once it has sprung back.
-TEST(ParticleDomains, EnrichmentFollowsTheDeformation) {
-  const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = test::open_space_config(dx, 32, rubber(2e4f));
-  mpm::ParticleInit init = test::lattice_box_with_domains({0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}, dx, 2, kDensity);
+// A 10 cm rubber cube with domains, squeezed hard by its initial velocity (its height shrinking at
+// 8 m/s per 5 cm), and its scene: it enriches the corners of its most distorted particles.
+constexpr float kSqueezeDx = 1.0f / 32.0f;
+FullOrderConfig squeeze_config() { return test::open_space_config(kSqueezeDx, 32, rubber(2e4f)); }
+mpm::ParticleInit squeezed_cube() {
+  mpm::ParticleInit init =
+      test::lattice_box_with_domains({0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}, kSqueezeDx, 2, kDensity);
   const Index n = init.count();
   for (Index p = 0; p < n; ++p) {
     const float height = init.x[n + p] - 0.5f;
     test::set_plane_vector(init.v, n, p, Vec3<float>(0.0f, -8.0f * height / 0.05f, 0.0f));
   }
-  FullOrderSim sim(test::exec(), config, init);
+  return init;
+}
+
+// Substeps at the stable Δt until time t; the largest share of enriched particles on the way.
+double run_until(FullOrderSim& sim, double t) {
   double largest_share = 0.0;
-  while (sim.time() < 0.3) {
+  while (sim.time() < t) {
     sim.substep(sim.stable_dt());
     largest_share = std::max(largest_share, sim.enriched_share());
   }
-  EXPECT_GT(largest_share, 0.2);
+  return largest_share;
+}
+
+// The squeezed cube enriches the corners of its most distorted particles, and gives them back to the
+// grid once it has sprung back.
+TEST(ParticleDomains, EnrichmentFollowsTheDeformation) {
+  const FullOrderConfig config = squeeze_config();
+  const mpm::ParticleInit init = squeezed_cube();
+  FullOrderSim sim(test::exec(), config, init);
+  EXPECT_GT(run_until(sim, 0.3), 0.2);
   EXPECT_EQ(sim.enriched_share(), 0.0);
 }
 
 // The domain transfers add without atomics on one CPU thread (kernels/math/scatter.h) and with them
 // on several: the same squeezed, enriching body ends in the same place either way, to rounding.
 TEST(ParticleDomains, OneThreadAndManyThreadsAgree) {
-  const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = test::open_space_config(dx, 32, rubber(2e4f));
-  mpm::ParticleInit init = test::lattice_box_with_domains({0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}, dx, 2, kDensity);
-  const Index n = init.count();
-  for (Index p = 0; p < n; ++p) {
-    const float height = init.x[n + p] - 0.5f;
-    test::set_plane_vector(init.v, n, p, Vec3<float>(0.0f, -8.0f * height / 0.05f, 0.0f));
-  }
+  const FullOrderConfig config = squeeze_config();
+  const mpm::ParticleInit init = squeezed_cube();
   std::vector<std::vector<float>> positions;
   for (const int threads : {1, 3}) {
     FullOrderSim sim(test::exec_with_threads(threads), config, init);
-    double largest_share = 0.0;
-    while (sim.time() < 0.02) {  // mid-squeeze
-      sim.substep(sim.stable_dt());
-      largest_share = std::max(largest_share, sim.enriched_share());
-    }
-    EXPECT_GT(largest_share, 0.0) << threads << " threads";
+    EXPECT_GT(run_until(sim, 0.02), 0.0) << threads << " threads";  // mid-squeeze
     positions.push_back(sim.particles().positions_in_initial_order(sim.exec()));
   }
   double moved = 0.0, gap = 0.0;
@@ -153,14 +156,9 @@ TEST(ParticleDomains, OneThreadAndManyThreadsAgree) {
 // squeezed body whose corners enrich - and so leave the grid - they follow the particles to rounding,
 // and a tracer outside every domain is carried by the grid.
 TEST(ParticleDomains, TracersRideInTheDomainsThroughEnrichment) {
-  const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = test::open_space_config(dx, 32, rubber(2e4f));
-  mpm::ParticleInit init = test::lattice_box_with_domains({0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}, dx, 2, kDensity);
+  const FullOrderConfig config = squeeze_config();
+  const mpm::ParticleInit init = squeezed_cube();
   const Index n = init.count();
-  for (Index p = 0; p < n; ++p) {
-    const float height = init.x[n + p] - 0.5f;
-    test::set_plane_vector(init.v, n, p, Vec3<float>(0.0f, -8.0f * height / 0.05f, 0.0f));
-  }
   std::vector<float> tracers(3 * (n + 1));
   for (int a = 0; a < 3; ++a) {
     std::copy_n(init.x.begin() + a * n, n, tracers.begin() + a * (n + 1));
@@ -168,12 +166,7 @@ TEST(ParticleDomains, TracersRideInTheDomainsThroughEnrichment) {
   }
   FullOrderSim sim(test::exec(), config, init);
   sim.set_tracers(tracers);
-  double largest_share = 0.0;
-  while (sim.time() < 0.02) {
-    sim.substep(sim.stable_dt());
-    largest_share = std::max(largest_share, sim.enriched_share());
-  }
-  EXPECT_GT(largest_share, 0.1);
+  EXPECT_GT(run_until(sim, 0.02), 0.1);
   const std::vector<float> x = sim.particles().positions_in_initial_order(sim.exec());
   const std::vector<float> tx = sim.tracer_positions_on_host();
   double moved = 0.0, gap = 0.0;
