@@ -21,6 +21,22 @@
 namespace romp {
 namespace {
 
+// The reduced step transfers as the ROM paper's Alg. 5: PIC momentum (no affine part) with the MLS
+// force, which romp's APIC kernels compute for points whose C is zero. A scene says "apic" (its
+// full-order runs then carry C) or "pic-flip" with flip_alpha = 0, pure PIC, the paper's full-order
+// model (Alg. 1): both run the same reduced step. FLIP would need each point's velocity history, which
+// x̂ does not keep.
+FullOrderConfig reduced_step_config(FullOrderConfig config) {
+  if (config.transfer == mpm::Transfer::PicFlip) {
+    ROMP_CHECK(config.flip_alpha == 0.0f,
+               fmt::format("solver.flip_alpha = {}: the reduced-order step cannot blend in FLIP (x̂ keeps no "
+                           "velocity history per point); use flip_alpha = 0 (PIC) or transfer = \"apic\"",
+                           config.flip_alpha));
+    config.transfer = mpm::Transfer::Apic;
+  }
+  return config;
+}
+
 // k distinct members of `pool`, drawn uniformly (Floyd's algorithm: k draws, no pass over the pool).
 std::vector<std::int32_t> draw_distinct(const std::vector<std::int32_t>& pool, std::size_t k,
                                         geometry::Random& random) {
@@ -89,9 +105,9 @@ mpm::ParticleView ReducedSim::Quadrature::view() {
 ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::ParticleInit& reference,
                        rom::DeformationMapWeights map, std::vector<float> xhat, ReducedOptions options)
     : exec_(exec),
-      config_(std::move(config)),
+      config_(reduced_step_config(std::move(config))),
       inputs_(exec, config_),
-      grid_(exec.backend, config_.dx, config_.transfer == mpm::Transfer::PicFlip),
+      grid_(exec.backend, config_.dx, /*keep_old_velocity=*/false),
       options_(options),
       map_(std::move(map)),
       latent_(map_.latent),
@@ -113,8 +129,6 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   for (const MaterialSpec& m : config_.materials)
     ROMP_CHECK(m.params.model != material::MaterialModel::Neural,
                "the reduced-order step evaluates analytic materials in its kernels; run a scene with neural laws full-order");
-  ROMP_CHECK(config_.transfer == mpm::Transfer::Apic,
-             "the reduced-order step transfers with MLS-MPM (quadrature points carry no affine velocity)");
   ROMP_CHECK(Index(xhat.size()) == latent_,
              fmt::format("x̂ holds {} values, the map's latent size is {}", xhat.size(), latent_));
   ROMP_CHECK(options_.samples >= 0 && options_.boundary_samples >= 0, "sample counts must be >= 0");

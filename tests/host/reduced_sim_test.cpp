@@ -155,6 +155,30 @@ TEST(ReducedSim, NonFiniteGeneralizedCoordinatesStopWithAClearError) {
   }
 }
 
+// A PIC scene (pic-flip with flip_alpha = 0, the paper's full-order model) runs the same reduced step
+// as an APIC one, which the full-order PIC run of the translating cube matches too; FLIP is refused.
+TEST(ReducedSim, PicScenesRunTheSameStepAndFlipIsRefused) {
+  FullOrderConfig pic = falling_config();
+  pic.transfer = mpm::Transfer::PicFlip;
+  pic.flip_alpha = 0.0f;
+  ReducedSim sim(test::exec(), pic, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+  FullOrderSim full(test::exec(), pic, cube());
+  for (int s = 0; s < kSteps; ++s) {
+    sim.substep(kDt);
+    full.substep(kDt);
+  }
+  EXPECT_LE(largest_difference(sim.decode_positions(), reduced_positions({})), 1e-6f);
+  EXPECT_LT(largest_difference(full.particles().positions_in_initial_order(full.exec()), sim.decode_positions()),
+            kTrajectoryTolerance);
+  pic.flip_alpha = 0.5f;
+  try {
+    ReducedSim(test::exec(), pic, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+    FAIL() << "a reduced simulation accepted FLIP";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("solver.flip_alpha = 0.5"), std::string::npos) << error.what();
+  }
+}
+
 TEST(ReducedSim, PlasticMaterialsAreRejected) {
   FullOrderConfig config = falling_config();
   config.materials = {nclaw_material(NclawMaterial::Sand)};
