@@ -32,12 +32,12 @@ usage() { sed -n '7,27p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2;
 [ $# -ge 2 ] || usage
 experiment="$1" out="$2"
 shift 2
-epochs=80 schemes="lagrangian-position,lagrangian-velocity,eulerian-position,eulerian-velocity" samples=""
+epochs=80 schemes="lagrangian-position,lagrangian-velocity,eulerian-position,eulerian-velocity" sample_rows=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --epochs) epochs="$2"; shift 2 ;;
     --schemes) schemes="$2"; shift 2 ;;
-    --samples) samples="$2"; shift 2 ;;
+    --samples) sample_rows="$2"; shift 2 ;;
     --) shift; break ;;
     *) usage ;;
   esac
@@ -130,15 +130,16 @@ cell() {
 table() {
   local model="$1" sweep_folder="$2" label="$3"
   shift 3
-  if [ -n "$samples" ]; then
+  if [ -n "$sample_rows" ]; then
     local counts
-    IFS=, read -r -a counts <<< "$samples"
+    IFS=, read -r -a counts <<< "$sample_rows"
     set -- "${counts[@]}"
   fi
   local header="| $label | sample points |" rule="|---|---|"
   for scheme in "${scheme_list[@]}"; do header+=" $scheme |"; rule+="---|"; done
   echo "$header"
   echo "$rule"
+  local samples
   for samples in "$@"; do
     local row="| $(basename "$model" .h5) | $([ "$samples" = 0 ] && echo all || echo "$samples") |"
     for scheme in "${scheme_list[@]}"; do row+=" $(cell "$model" "$sweep_folder" "$scheme" "$samples") |"; done
@@ -154,7 +155,7 @@ superres_table() {
   shift 3
   local folder="$(dirname "$model")/superres"
   mkdir -p "$folder"
-  local index member_scene snapshot values
+  local index member_scene snapshot values samples
   declare -A cells
   while read -r index member_scene snapshot values; do
     local fine="$folder/fine-m$index.h5" sets=() assignments
@@ -213,7 +214,7 @@ case "$experiment" in
     sweep torsion torsion_tension.toml 's/^dx = 0.00125 .*/dx = 0.0025/'
     train "$out/torsion/mlp_r7.h5" "$out/torsion/sweep" --latent 7
     counts=(50 0)
-    [ -z "$samples" ] || IFS=, read -r -a counts <<< "$samples"
+    [ -z "$sample_rows" ] || IFS=, read -r -a counts <<< "$sample_rows"
     superres_table "$out/torsion/mlp_r7.h5" "$out/torsion/sweep" torsion_tension.toml "${counts[@]}"
     ;;
   *) usage ;;
