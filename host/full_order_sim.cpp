@@ -23,10 +23,7 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
       inputs_(exec, config_) {
   check_particle_tables(config_, init.material, init.dirichlet_group);
   check_particle_domains(config_, init);
-  if (!init.domains.empty()) {
-    domains_.emplace(exec.backend, init.domains);
-    domain_layout_ = init.domains;
-  }
+  if (!init.domains.empty()) domains_.emplace(exec.backend, init.domains);
   released_.assign(config_.dirichlet.size(), false);
   if (config_.integrator == Integrator::Implicit) implicit_.emplace(exec.backend, config_.implicit);
   auto neural = std::make_unique<NeuralMaterials>(exec, config_.materials, particles_.count());
@@ -126,7 +123,15 @@ void FullOrderSim::substep(float dt) {
 }
 
 void FullOrderSim::set_tracers(const std::vector<float>& X) {
-  tracers_.emplace(exec_, X, domain_layout_);
+  // Tracers embed in the domains as they are at the start, the reference configuration.
+  mpm::DomainInit layout;
+  if (domains_) {
+    ROMP_CHECK(steps_ == 0, "tracers start with the run: they are embedded in the domains' reference configuration");
+    layout.corner = domains_->corner_indices_on_host(exec_);
+    layout.corner_x = domains_->corner_positions_on_host(exec_);
+    layout.corner_dirichlet_group.assign(std::size_t(domains_->corner_count()), mpm::kNoDirichletGroup);
+  }
+  tracers_.emplace(exec_, X, layout);
   // Last in the substep: the grid's velocities stay as the update left them until the next rebuild.
   if (stage_seconds_.back().first != "tracers") stage_seconds_.emplace_back("tracers", 0.0);
 }

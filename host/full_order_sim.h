@@ -87,7 +87,6 @@ class FullOrderSim {
   StepInputs inputs_;
   std::optional<ImplicitGridSolver> implicit_;  // with Integrator::Implicit only
   std::unique_ptr<NeuralMaterials> neural_;     // when some material is a learned law
-  mpm::DomainInit domain_layout_;               // the domains' reference corners, for tracers to ride in
   std::optional<TracerSet> tracers_;
   double time_ = 0.0;
   std::int64_t steps_ = 0;

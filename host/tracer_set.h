@@ -19,8 +19,9 @@ namespace romp {
 
 class TracerSet {
  public:
-  // X: the points' positions at the start (3 planes). `domains`: the run's domains in their reference
-  // configuration (empty: none); their lattice spacing must be one for all.
+  // X: the points' positions at the start (3 planes). `domains`: the run's domain corners (indices and
+  // positions) in the reference configuration, empty without domains; their lattice spacing must be one
+  // for all.
   TracerSet(const Exec& exec, const std::vector<float>& X, const mpm::DomainInit& domains);
 
   // Moves the grid-carried points by one substep, after the grid update (as G2P).

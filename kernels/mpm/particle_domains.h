@@ -103,6 +103,8 @@ class ParticleDomains {
   // The largest domain_stiffening in the last substep, 1 before the first (a host sync).
   float stiffening(const Exec& exec) const;
   std::vector<float> corner_positions_on_host(const Exec& exec) const { return x_.to_host(exec.stream); }
+  // The 8 corner indices of every domain (DomainInit::corner).
+  std::vector<std::int32_t> corner_indices_on_host(const Exec& exec) const { return corner_.to_host(exec.stream); }
   // The corners' velocities after the last substep's grid_to_corners (3 planes).
   std::vector<float> corner_velocities_on_host(const Exec& exec) const { return v_.to_host(exec.stream); }
   std::size_t bytes() const;
