@@ -38,10 +38,10 @@ class ImplicitGridSolver {
   // Replaces the velocities v* of the grid (after the grid update) and of the enriched domain
   // corners (after corners_to_grid) by v, the solution on the free components (implicit_solve.h)
   // with the held ones kept at v*, then applies the walls and colliders again. CG starts from v*
-  // and has converged when ‖r‖ ≤ tolerance · max(‖S M v*‖, ‖r₀‖) (the initial residual stands in when no momentum sits on the unknowns, e.g. a body at rest
-  // beside a moving collider). When it has not converged after max_iterations, or breaks down, the
-  // grid keeps v*, and a warning names `step`, the substep being computed. `domains` has corners == 0
-  // when there are none.
+  // and has converged when ‖r‖ ≤ tolerance · max(‖S M v*‖, ‖r₀‖) (the initial residual stands in
+  // when no momentum sits on the unknowns, e.g. a body at rest beside a moving collider). When it
+  // has not converged after max_iterations, or breaks down, the grid keeps v*, and a warning names
+  // `step`, the substep being computed. `domains` has corners == 0 when there are none.
   ImplicitSolveReport solve(const Exec& exec, const mpm::ParticleView& particles, const mpm::DomainView& domains,
                             const mpm::GridView& grid, const mpm::StepParams& step, std::int64_t step_number);
 

@@ -164,9 +164,10 @@ int main(int argc, char** argv) {
   run->add_flag("!--no-progress", run_options.progress, "No progress bar");
   run->add_option("--output-points", run_options.output_points,
                   "Write the frames at the material points of this snapshot (e.g. a finer sampling of the same "
-                  "body) instead of the scene's: decoded by the map with --rom (super-resolution), carried by "
-                  "the grid velocity as tracers otherwise (x and v)")
-      ->check(CLI::ExistingFile);
+                  "body) instead of the scene's: decoded by the map with --rom (super-resolution), carried as "
+                  "tracers otherwise (x and v; in particle domains where the scene has them, else by the grid)")
+      ->check(CLI::ExistingFile)
+      ->excludes("--resume");
   run->add_option("--set", sets, "Override a declared parameter: name=value (repeatable)");
   run->add_option("--law", law_assignments, law_help);
   romp::run::ReducedRunOptions reduced_options;

@@ -53,11 +53,10 @@ TracerSet::TracerSet(const Exec& exec, const std::vector<float>& X, const mpm::D
     embedded_ = geometry::embed_points(points, domains, 0, lattice_spacing(domains));
   else
     embedded_.domain.assign(std::size_t(count_), -1);
-  std::vector<float> grid_x;
   for (Index p = 0; p < count_; ++p)
     if (embedded_.domain[std::size_t(p)] < 0) on_grid_.push_back(p);
   const Index n = Index(on_grid_.size());
-  grid_x.resize(std::size_t(3 * n));
+  std::vector<float> grid_x(std::size_t(3 * n));
   for (Index i = 0; i < n; ++i)
     for (int a = 0; a < 3; ++a) grid_x[std::size_t(a * n + i)] = X[std::size_t(a * count_ + on_grid_[std::size_t(i)])];
   x_ = DeviceBuffer<float>::from_host(exec.backend, grid_x, exec.stream);

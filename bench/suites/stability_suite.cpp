@@ -3,9 +3,9 @@
 // budget; each case is recorded as acceptable or not (ends finite with bounded energy, or stops with
 // a message), with its status, the simulated share of its duration and its energy ratio.
 //
-// --set min_youngs=X and --set max_youngs=X limit E to [X_min, X_max]; --set implicit=0|1 and --set enriched=0|1 keep one
-// integrator or one particle variant; --set substeps=N and --set seconds=S set each case's budget
-// (default 20000 substeps, 20 s).
+// --set min_youngs=X and --set max_youngs=X limit E to [X_min, X_max]; --set implicit=0|1 and
+// --set enriched=0|1 keep one integrator or one particle variant; --set substeps=N and
+// --set seconds=S set each case's budget (default 20000 substeps, 20 s).
 #include <fmt/format.h>
 
 #include <algorithm>

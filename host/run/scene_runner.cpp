@@ -43,7 +43,12 @@ io::SnapshotHeader snapshot_header(const scene::Scene& scene, const mpm::Particl
     header.volume0 = particles.volume0;
     header.material = particles.material;
   } else {
-    const io::SnapshotHeader points = io::SnapshotReader(output_points).header();
+    io::SnapshotHeader points;
+    try {
+      points = io::SnapshotReader(output_points).header();
+    } catch (const Error& error) {
+      throw scene::SceneError(fmt::format("--output-points: {}", error.what()));
+    }
     header.X = points.X;
     header.mass = points.mass;
     header.volume0 = points.volume0;

@@ -21,9 +21,12 @@
 namespace romp {
 namespace detail {
 
+// The OpenMP threads a CPU loop on `exec` runs on.
+inline int cpu_threads(const Exec& exec) { return exec.threads > 0 ? exec.threads : omp_get_max_threads(); }
+
 template <class F>
 void for_each_cpu(const Exec& exec, Index n, const F& functor) {
-  const int threads = exec.threads > 0 ? exec.threads : omp_get_max_threads();
+  const int threads = cpu_threads(exec);
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (Index i = 0; i < n; ++i) functor(i);
 }

@@ -11,6 +11,8 @@
 
 #include "host/full_order_sim.h"
 #include "host/geometry/lattice_domains.h"
+#include "host/tracer_set.h"
+#include "kernels/core/error.h"
 #include "tests/host/mpm_test_scenes.h"
 #include "kernels/svd/svd3.h"
 #include "tests/support/test_exec.h"
@@ -135,6 +137,7 @@ TEST(ParticleDomains, EnrichmentFollowsTheDeformation) {
 // The domain transfers add without atomics on one CPU thread (kernels/math/scatter.h) and with them
 // on several: the same squeezed, enriching body ends in the same place either way, to rounding.
 TEST(ParticleDomains, OneThreadAndManyThreadsAgree) {
+  if (test::exec().is_cuda()) GTEST_SKIP() << "thread counts choose the CPU's scatter only";
   const FullOrderConfig config = squeeze_config();
   const mpm::ParticleInit init = squeezed_cube();
   std::vector<std::vector<float>> positions;
@@ -178,6 +181,19 @@ TEST(ParticleDomains, TracersRideInTheDomainsThroughEnrichment) {
   EXPECT_GT(moved, 5e-3);
   EXPECT_LT(gap, 1e-6);
   for (int a = 0; a < 3; ++a) EXPECT_EQ(tx[a * (n + 1) + n], 0.2f);
+}
+
+// Points embed by lattice cell, so tracers refuse domains of different sizes, naming the sizes.
+TEST(ParticleDomains, TracersRefuseDomainsOfDifferentSizes) {
+  mpm::ParticleInit init = squeezed_cube();
+  std::vector<float>& corner_x = init.domains.corner_x;
+  corner_x[0] -= 0.5f * kSqueezeDx;  // corner 0's x: its domains are now wider along x than the rest
+  try {
+    TracerSet(test::exec(), init.x, init.domains);
+    FAIL() << "tracers embedded in domains of different sizes";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("different sizes"), std::string::npos) << error.what();
+  }
 }
 
 // Mean distance of x from the rigidly best-aligned reference x0 (Kabsch: the rotation U Vᵀ of the

@@ -6,10 +6,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "host/full_order_sim.h"
 #include "host/io/snapshot_writer.h"
 #include "host/scene/scene_parser.h"
+#include "host/scene/toml_reader.h"
 #include "nn/snapshot_layout.h"
 #include "nn/snapshot_reader.h"
 #include "tests/host/rom_test_maps.h"
@@ -150,6 +152,25 @@ TEST_F(SceneRunner, OutputPointsOfAFullOrderRunAreTracers) {
   for (std::size_t i = 0; i < a.x.size(); ++i) EXPECT_NEAR(a.x[i], b.x[i], 1e-6f) << "value " << i;
   o.resume = true;
   EXPECT_THROW(run_scene(Exec::cpu(), scene, o), Error);
+}
+
+// A --output-points file that is not a snapshot is invalid input (exit 3 in romp run) naming the option
+// and the file, and no output is left.
+TEST_F(SceneRunner, OutputPointsThatAreNotASnapshotAreRefusedByName) {
+  const scene::Scene scene = scene::parse_scene(cube_scene("jelly"), "cube.toml");
+  RunOptions o = options("tracers.h5");
+  o.output_points = folder_.file("points.h5");
+  std::ofstream(o.output_points) << "not HDF5\n";
+  try {
+    run_scene(Exec::cpu(), scene, o);
+    FAIL() << "a file that is not a snapshot was taken for points";
+  } catch (const scene::SceneError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("--output-points"), std::string::npos) << message;
+    EXPECT_NE(message.find(o.output_points), std::string::npos) << message;
+  }
+  EXPECT_FALSE(fs::exists(o.output));
+  EXPECT_FALSE(fs::exists(io::partial_path(o.output)));
 }
 
 // Runs `scene` whole and in two parts (stopped after frame 3, resumed) on one CPU thread, and checks
