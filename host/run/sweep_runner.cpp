@@ -76,6 +76,7 @@ nlohmann::json manifest(const scene::Scene& base, const std::string& scene_path,
                                                              : "latin-hypercube";
   m["seed"] = sweep.seed;
   m["test_fraction"] = sweep.test_fraction;
+  m["train_every"] = sweep.train_every;
   nlohmann::json names = nlohmann::json::array();
   for (const scene::SweepAxis& axis : sweep.axes) names.push_back(axis.parameter);
   m["parameters"] = names;

@@ -30,6 +30,9 @@ SweepSpec read_sweep(TableReader& table, const ParameterValues& declared) {
                                 sweep.method == SweepMethod::Grid ? Range::closed(0, 0) : Range::closed(1, 1e6));
   sweep.seed = std::uint64_t(table.integer("seed", 0, Range::closed(0, 9e15)));
   sweep.test_fraction = table.number("test_fraction", 0.0, Range::closed_open(0.0, 1.0));
+  sweep.train_every = table.integer("train_every", 0, Range::closed(0, 1e6));
+  if (sweep.train_every > 0 && sweep.test_fraction > 0.0)
+    table.fail("train_every", "cannot be combined with test_fraction (both choose the test members); give one");
 
   TableReader parameters = table.table("parameters");
   for (const std::string& name : parameters.keys()) {
@@ -106,6 +109,12 @@ std::vector<SweepMember> sweep_members(const SweepSpec& sweep) {
       }
       members.push_back(std::move(member));
     }
+  }
+  if (sweep.train_every > 0) {
+    // Evenly spaced split (the ROM paper's Sec. 5.3 trains on every third poke azimuth), so training
+    // covers the parameter range without the gaps a random draw can leave.
+    for (SweepMember& member : members) member.test = member.index % sweep.train_every != 0;
+    return members;
   }
   // Seeded split: a random subset of round(test_fraction × N) members is held out.
   std::vector<std::size_t> order(members.size());

@@ -1,5 +1,5 @@
 // Parameter sweeps: the [sweep] table of a scene (full factorial grid, uniform random or Latin
-// hypercube over named parameters) and its members with a seeded train/test split.
+// hypercube over named parameters) and its members with a seeded or evenly spaced train/test split.
 #pragma once
 
 #include <cstdint>
@@ -23,7 +23,8 @@ struct SweepSpec {
   SweepMethod method = SweepMethod::Grid;
   std::int64_t samples = 0;  // random, Latin hypercube: the number of members
   std::uint64_t seed = 0;
-  double test_fraction = 0.0;
+  double test_fraction = 0.0;  // held out at random
+  std::int64_t train_every = 0;  // > 0: the members whose index is a multiple train, the rest test
   std::vector<SweepAxis> axes;
 };
 

@@ -64,5 +64,14 @@ TEST(Sweep, SeedFixesMembersAndSplit) {
   }
 }
 
+TEST(Sweep, TrainEveryHoldsOutAllButEveryNthMember) {
+  SweepSpec sweep = two_axis_sweep(SweepMethod::Grid);
+  sweep.test_fraction = 0.0;
+  sweep.train_every = 3;
+  const std::vector<SweepMember> members = sweep_members(sweep);
+  ASSERT_EQ(members.size(), 6u);
+  for (const SweepMember& m : members) EXPECT_EQ(m.test, m.index % 3 != 0) << m.index;
+}
+
 }  // namespace
 }  // namespace romp::scene
