@@ -4,7 +4,7 @@
 # test members, and `romp compare` of each against the member's full-order run. Prints a markdown
 # table: the accumulated position error, mean over the test members (worst in parentheses).
 #
-#   tools/rom_paper.sh EXPERIMENT OUTPUT_DIR [--epochs N] [--schemes LIST] [--samples LIST] [-- romp options]
+#   tools/rom_paper.sh EXPERIMENT OUTPUT_DIR [--epochs N] [--schemes LIST] [--samples LIST] [--jobs N] [-- romp options]
 #
 # EXPERIMENT
 #   gravity-samples   Fig. 11: the gravity cylinder (r = 4), error against the number of sample points
@@ -16,11 +16,16 @@
 #                     twice as fine (romp run --output-points), against a full-order run at that
 #                     resolution; beside it the tracer-particle baseline (the fine points carried by
 #                     the coarse full-order run); 50 and all sample points
+#   poke              Table 5: poke-and-recover (r = 6, trained on 12 single pokes, tested on the
+#                     other 24 azimuths), 50 and all sample points
+#   continual-poking  Table 6: the poke map runs ten pokes in a row (30 s, never seen in training),
+#                     against a full-order run of the same sequence; 50 and all sample points
 # --epochs N: training length of each map (default 80, short of convergence on a CPU);
 # --schemes: comma-separated among lagrangian-position, lagrangian-velocity, eulerian-position,
 # eulerian-velocity (default: all four; quadrature, then projection); --samples: comma-separated sample
-# counts, 0 for all points, in place of the experiment's rows; options after -- go to every romp command
-# (e.g. -- --device cpu --threads 1).
+# counts, 0 for all points, in place of the experiment's rows; --jobs N: reduced runs of one table cell
+# at once (default 1; runs pass `-- --threads 1` to share the cores); options after -- go to every romp
+# command (e.g. -- --device cpu --threads 1).
 #
 # Steps whose output exists are skipped and an interrupted training resumes from its checkpoint, so
 # experiments on the same OUTPUT_DIR share sweeps and maps; an existing sweep placed at
@@ -28,16 +33,17 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 romp="${ROMP:-$root/build/romp}"
-usage() { sed -n '7,27p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '7,32p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 [ $# -ge 2 ] || usage
 experiment="$1" out="$2"
 shift 2
-epochs=80 schemes="lagrangian-position,lagrangian-velocity,eulerian-position,eulerian-velocity" sample_rows=""
+epochs=80 schemes="lagrangian-position,lagrangian-velocity,eulerian-position,eulerian-velocity" sample_rows="" jobs=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --epochs) epochs="$2"; shift 2 ;;
     --schemes) schemes="$2"; shift 2 ;;
     --samples) sample_rows="$2"; shift 2 ;;
+    --jobs) jobs="$2"; shift 2 ;;
     --) shift; break ;;
     *) usage ;;
   esac
@@ -66,13 +72,13 @@ train() {
   local resume=()
   [ -f "$model.checkpoint" ] && resume=(--resume)
   echo "training: $model ($epochs epochs)" >&2
-  "$romp" "${options[@]}" train-rom "$sweep_folder" -o "$model" --epochs "$epochs" --report-every 10 \
+  "$romp" "${options[@]}" train-rom "$sweep_folder" -o "$model" --epochs "$epochs" --report-every 20 \
     "${resume[@]}" "$@" > "${model%.h5}.log" 2>&1
 }
 
 # test_members SWEEP: one "index scene snapshot name=value,..." line per test member.
 test_members() {
-  /usr/bin/python3 - "$1/manifest.json" <<'EOF'
+  /usr/bin/python3 - "$1/manifest.json" <<'EOF2'
 import json, os, sys
 manifest = json.load(open(sys.argv[1]))
 folder = os.path.dirname(sys.argv[1])
@@ -80,7 +86,13 @@ for member in manifest["members"]:
     if member["split"] == "test":
         values = ",".join(f"{name}={value!r}" for name, value in member["values"].items())
         print(member["index"], os.path.join(folder, member["scene"]), os.path.join(folder, member["snapshot"]), values)
-EOF
+EOF2
+}
+
+# members_file SWEEP: writes the test members' lines to SWEEP/test_members.txt and prints its path.
+members_file() {
+  test_members "$1" > "$1/test_members.txt"
+  echo "$1/test_members.txt"
 }
 
 # error RUN REFERENCE: the accumulated position error (%) of RUN against REFERENCE.
@@ -88,19 +100,22 @@ error() {
   "$romp" "${options[@]}" compare "$1" "$2" | sed -n 's/.*accumulated position error \([^%]*\)%.*/\1/p'
 }
 
-# rom_error MODEL SCHEME SAMPLES INDEX SCENE REFERENCE: runs the member reduced (unless done) and prints
-# its accumulated position error (%) against the full-order run, or "failed".
-rom_error() {
-  local model="$1" quadrature="${2%-*}" projection="${2#*-}" samples="$3" index="$4" scene="$5" reference="$6"
-  local runs="$(dirname "$model")/runs"
-  local run="$runs/$(basename "$model" .h5)-$2-s$samples-m$index.h5"
-  mkdir -p "$runs"
-  if [ ! -f "$run" ] && ! "$romp" "${options[@]}" run --no-progress "$scene" --rom "$model" --quadrature "$quadrature" \
-      --projection "$projection" --samples "$samples" -o "$run" > "${run%.h5}.log" 2>&1; then
-    echo failed
-    return
-  fi
-  error "$run" "$reference"
+# rom_run_path MODEL SCHEME SAMPLES INDEX: where the member's reduced run goes.
+rom_run_path() {
+  echo "$(dirname "$1")/runs/$(basename "$1" .h5)-$2-s$3-m$4.h5"
+}
+
+# rom_run MODEL SCHEME SAMPLES INDEX SCENE: runs the member reduced unless done; a failed run leaves
+# RUN.failed beside its log.
+rom_run() {
+  local model="$1" quadrature="${2%-*}" projection="${2#*-}" samples="$3" scene="$5"
+  local run
+  run="$(rom_run_path "$1" "$2" "$3" "$4")"
+  mkdir -p "$(dirname "$run")"
+  [ -f "$run" ] && [ ! -f "$run.failed" ] && return 0
+  rm -f "$run.failed"
+  "$romp" "${options[@]}" run --no-progress "$scene" --rom "$model" --quadrature "$quadrature" \
+    --projection "$projection" --samples "$samples" -o "$run" > "${run%.h5}.log" 2>&1 < /dev/null || touch "$run.failed"
 }
 
 # summary VALUES...: "mean % (worst %)", or how many runs failed.
@@ -116,19 +131,28 @@ else:
     print(f"{sum(numbers) / len(numbers):.3g} % ({max(numbers):.3g} %)")' "$@"
 }
 
-# cell MODEL SWEEP SCHEME SAMPLES: "mean % (worst %)" over the sweep's test members.
+# cell MODEL MEMBERS SCHEME SAMPLES: "mean % (worst %)" over the members listed in the file MEMBERS
+# ("index scene reference ..." lines), --jobs of them run at once.
 cell() {
-  local values=()
-  while read -r index scene snapshot _; do
-    values+=("$(rom_error "$1" "$3" "$4" "$index" "$scene" "$snapshot")")
-  done < <(test_members "$2")
+  local index scene reference running=0
+  while read -r index scene reference _; do
+    if [ "$running" -ge "$jobs" ]; then wait -n || true; running=$((running - 1)); fi
+    rom_run "$1" "$3" "$4" "$index" "$scene" &
+    running=$((running + 1))
+  done < "$2"
+  wait
+  local values=() run
+  while read -r index scene reference _; do
+    run="$(rom_run_path "$1" "$3" "$4" "$index")"
+    values+=("$([ -f "$run" ] && [ ! -f "$run.failed" ] && error "$run" "$reference" || echo failed)")
+  done < "$2"
   summary "${values[@]}"
 }
 
-# table MODEL SWEEP LABEL COUNTS...: one row per sample count (0: all), one column per scheme; --samples
-# replaces COUNTS.
+# table MODEL MEMBERS LABEL COUNTS...: one row per sample count (0: all), one column per scheme, over
+# the members listed in the file MEMBERS; --samples replaces COUNTS.
 table() {
-  local model="$1" sweep_folder="$2" label="$3"
+  local model="$1" members="$2" label="$3"
   shift 3
   if [ -n "$sample_rows" ]; then
     local counts
@@ -142,7 +166,7 @@ table() {
   local samples
   for samples in "$@"; do
     local row="| $(basename "$model" .h5) | $([ "$samples" = 0 ] && echo all || echo "$samples") |"
-    for scheme in "${scheme_list[@]}"; do row+=" $(cell "$model" "$sweep_folder" "$scheme" "$samples") |"; done
+    for scheme in "${scheme_list[@]}"; do row+=" $(cell "$model" "$members" "$scheme" "$samples") |"; done
     echo "$row"
   done
 }
@@ -196,19 +220,20 @@ case "$experiment" in
   gravity-samples)
     sweep gravity gravity_cylinder.toml 's/^dx = 0.002 .*/dx = 0.004/'
     train "$out/gravity/mlp_r4.h5" "$out/gravity/sweep" --latent 4
-    table "$out/gravity/mlp_r4.h5" "$out/gravity/sweep" map 1 2 5 10 20 50 100 0
+    table "$out/gravity/mlp_r4.h5" "$(members_file "$out/gravity/sweep")" map 1 2 5 10 20 50 100 0
     ;;
   gravity-manifold)
     sweep gravity gravity_cylinder.toml 's/^dx = 0.002 .*/dx = 0.004/'
     train "$out/gravity/mlp_r4.h5" "$out/gravity/sweep" --latent 4
     train "$out/gravity/linear_r4.h5" "$out/gravity/sweep" --latent 4 --linear
-    table "$out/gravity/mlp_r4.h5" "$out/gravity/sweep" map 10 0
-    table "$out/gravity/linear_r4.h5" "$out/gravity/sweep" map 10 0 | tail -n +3
+    members="$(members_file "$out/gravity/sweep")"
+    table "$out/gravity/mlp_r4.h5" "$members" map 10 0
+    table "$out/gravity/linear_r4.h5" "$members" map 10 0 | tail -n +3
     ;;
   torsion)
     sweep torsion torsion_tension.toml 's/^dx = 0.00125 .*/dx = 0.0025/'
     train "$out/torsion/mlp_r7.h5" "$out/torsion/sweep" --latent 7
-    table "$out/torsion/mlp_r7.h5" "$out/torsion/sweep" map 50 0
+    table "$out/torsion/mlp_r7.h5" "$(members_file "$out/torsion/sweep")" map 50 0
     ;;
   super-resolution)
     sweep torsion torsion_tension.toml 's/^dx = 0.00125 .*/dx = 0.0025/'
@@ -216,6 +241,24 @@ case "$experiment" in
     counts=(50 0)
     [ -z "$sample_rows" ] || IFS=, read -r -a counts <<< "$sample_rows"
     superres_table "$out/torsion/mlp_r7.h5" "$out/torsion/sweep" torsion_tension.toml "${counts[@]}"
+    ;;
+  poke)
+    sweep poke poke_recover.toml ''
+    train "$out/poke/mlp_r6.h5" "$out/poke/sweep" --latent 6
+    table "$out/poke/mlp_r6.h5" "$(members_file "$out/poke/sweep")" map 50 0
+    ;;
+  continual-poking)
+    sweep poke poke_recover.toml ''
+    train "$out/poke/mlp_r6.h5" "$out/poke/sweep" --latent 6
+    reference="$out/poke/continual/full.h5"
+    mkdir -p "$out/poke/continual"
+    if [ ! -f "$reference" ]; then
+      echo "full-order run: $reference" >&2
+      "$romp" "${options[@]}" run --no-progress "$root/scenes/rom/continual_poking.toml" -o "$reference" \
+        > "${reference%.h5}.log" 2>&1 || { echo "failed: $reference (see ${reference%.h5}.log)" >&2; exit 1; }
+    fi
+    echo "continual $root/scenes/rom/continual_poking.toml $reference -" > "$out/poke/continual/members.txt"
+    table "$out/poke/mlp_r6.h5" "$out/poke/continual/members.txt" map 50 0
     ;;
   *) usage ;;
 esac
