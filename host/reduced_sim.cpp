@@ -17,6 +17,7 @@
 #include "kernels/mpm/bspline.h"
 #include "kernels/mpm/step.h"
 #include "kernels/rom/reduced_dynamics.h"
+#include "kernels/rom/stencil_neighbours.h"
 
 namespace romp {
 namespace {
@@ -35,6 +36,20 @@ FullOrderConfig reduced_step_config(FullOrderConfig config) {
     config.transfer = mpm::Transfer::Apic;
   }
   return config;
+}
+
+// Whether the Lagrangian quadrature searches the samples' neighbours (see NeighbourSearch). A sample's
+// neighbours have their base node within 2 of its own: at most 5³ cells' worth of points each.
+bool wants_neighbour_search(const ReducedOptions& options, const mpm::ParticleInit& reference, float dx,
+                            Index dirichlet_groups) {
+  const Index n = reference.count();
+  if (options.neighbour_search != NeighbourSearch::Auto) return options.neighbour_search == NeighbourSearch::Always;
+  if (options.samples == 0 || options.samples >= n) return false;
+  double volume = 0.0;
+  for (const float v : reference.volume0) volume += v;
+  const double points_per_cell = double(n) * double(dx) * dx * dx / volume;
+  const double samples = double(options.samples + dirichlet_groups * options.boundary_samples);
+  return samples * 125.0 * points_per_cell < 0.5 * double(n);
 }
 
 // k distinct members of `pool`, drawn uniformly (Floyd's algorithm: k draws, no pass over the pool).
@@ -69,15 +84,11 @@ Vec3<float> planes_at(const std::vector<float>& planes, Index n, Index i) {
   return Vec3<float>(planes[i], planes[n + i], planes[2 * n + i]);
 }
 
-// A key for a grid cell (each coordinate below 2^21).
-std::uint64_t cell_key(const int c[3]) {
-  return (std::uint64_t(c[0]) << 42) | (std::uint64_t(c[1]) << 21) | std::uint64_t(c[2]);
-}
-
 }  // namespace
 
 void ReducedSim::Quadrature::allocate(Backend backend, Index n) {
   count = n;
+  capacity = n;
   for (DeviceBuffer<float>* planes : {&x, &X, &v}) *planes = DeviceBuffer<float>(backend, 3 * n);
   F = DeviceBuffer<float>(backend, 9 * n);
   C = DeviceBuffer<float>(backend, 9 * n);
@@ -86,6 +97,11 @@ void ReducedSim::Quadrature::allocate(Backend backend, Index n) {
   volume0 = DeviceBuffer<float>(backend, n);
   for (DeviceBuffer<std::int32_t>* ints : {&material, &group, &id, &status})
     *ints = DeviceBuffer<std::int32_t>(backend, n);
+}
+
+void ReducedSim::Quadrature::resize(Backend backend, Index n) {
+  if (n > capacity) allocate(backend, n + n / 4);
+  count = n;
 }
 
 mpm::ParticleView ReducedSim::Quadrature::view() {
@@ -157,14 +173,13 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   xhat_device_ = DeviceBuffer<float>::from_host(backend, xhat_);
 
   if (options_.quadrature == RomQuadrature::Lagrangian) {
-    // Every material point is a quadrature point: its mass, volume and tables never change.
-    quadrature_.allocate(backend, n);
-    quadrature_.mass = mass_.clone();
-    quadrature_.volume0 = volume0_.clone();
-    quadrature_.material = material_.clone();
-    quadrature_.group = dirichlet_group_.clone();
-    quadrature_.id = id_.clone();
-    dg_dxhat_ = DeviceBuffer<float>(backend, 3 * Index(latent_) * n);
+    search_neighbours_ = wants_neighbour_search(options_, reference, config_.dx, Index(group_members_.size()));
+    if (search_neighbours_) {
+      positions_ = DeviceBuffer<float>(backend, 3 * n);
+      marked_ = DeviceBuffer<std::int32_t>(backend, n);
+    } else {
+      every_point_quadrature();
+    }
   } else {
     build_occupancy(reference);
   }
@@ -280,13 +295,52 @@ float ReducedSim::stable_dt() const {
   return std::min(config_.max_dt, config_.cfl * config_.dx / (inputs_.max_wave_speed() + max_sample_speed_));
 }
 
-mpm::ParticleView ReducedSim::lagrangian_quadrature() {
-  const Index n = points_;
-  evaluate_map(Vec3Planes<const float>(X_.data(), n),
-               {Vec3Planes<float>(quadrature_.x.data(), n), Mat3Planes<float>(quadrature_.F.data(), n),
-                dg_dxhat_.span()});
-  rom::latent_to_point_velocity(exec_, latent_, dg_dxhat_.span(), vhat_device_.span(),
-                                Vec3Planes<float>(quadrature_.v.data(), n));
+void ReducedSim::every_point_quadrature() {
+  // Every material point is a quadrature point: its mass, volume and tables never change.
+  const Backend backend = exec_.backend;
+  quadrature_.allocate(backend, points_);
+  quadrature_.X = X_.clone();
+  quadrature_.mass = mass_.clone();
+  quadrature_.volume0 = volume0_.clone();
+  quadrature_.material = material_.clone();
+  quadrature_.group = dirichlet_group_.clone();
+  quadrature_.id = id_.clone();
+  dg_dxhat_ = DeviceBuffer<float>(backend, 3 * Index(latent_) * points_);
+}
+
+mpm::ParticleView ReducedSim::lagrangian_quadrature(Index m) {
+  if (search_neighbours_) {
+    // Alg. 3, steps 2-3: the points whose stencils reach the samples' grid nodes, found from g's
+    // positions at every point.
+    const Index n = points_;
+    const float inverse_dx = 1.0f / config_.dx;
+    evaluate_map(Vec3Planes<const float>(X_.data(), n), {Vec3Planes<float>(positions_.data(), n), {}, {}});
+    near_bases_ = DeviceBuffer<std::uint64_t>::from_host(
+        exec_.backend, rom::bases_near_samples(samples_.x.to_host(exec_.stream), m, inverse_dx), exec_.stream);
+    rom::mark_stencil_neighbours(exec_, Vec3Planes<const float>(positions_.data(), n), inverse_dx,
+                                 near_bases_.span(), marked_.span());
+    // Compacted on the host, in reference order; a device scan would spare copying n flags per substep.
+    const std::vector<std::int32_t> marked = marked_.to_host(exec_.stream);
+    std::vector<std::int32_t> chosen;
+    for (Index p = 0; p < n; ++p)
+      if (marked[std::size_t(p)]) chosen.push_back(std::int32_t(p));
+    quadrature_.resize(exec_.backend, Index(chosen.size()));
+    quadrature_index_ = DeviceBuffer<std::int32_t>::from_host(exec_.backend, chosen, exec_.stream);
+    gather(exec_, X_, n, 3, quadrature_index_, quadrature_.X);
+    gather(exec_, mass_, n, 1, quadrature_index_, quadrature_.mass);
+    gather(exec_, volume0_, n, 1, quadrature_index_, quadrature_.volume0);
+    gather(exec_, material_, n, 1, quadrature_index_, quadrature_.material);
+    gather(exec_, dirichlet_group_, n, 1, quadrature_index_, quadrature_.group);
+    gather(exec_, id_, n, 1, quadrature_index_, quadrature_.id);
+    if (dg_dxhat_.size() < 3 * Index(latent_) * quadrature_.count)
+      dg_dxhat_ = DeviceBuffer<float>(exec_.backend, 3 * Index(latent_) * quadrature_.capacity);
+  }
+  const Index q = quadrature_.count;
+  lagrangian_points_ += q;
+  const Span<float> dg_dxhat(dg_dxhat_.data(), 3 * Index(latent_) * q);
+  evaluate_map(Vec3Planes<const float>(quadrature_.X.data(), q),
+               {Vec3Planes<float>(quadrature_.x.data(), q), Mat3Planes<float>(quadrature_.F.data(), q), dg_dxhat});
+  rom::latent_to_point_velocity(exec_, latent_, dg_dxhat, vhat_device_.span(), Vec3Planes<float>(quadrature_.v.data(), q));
   return quadrature_.view();
 }
 
@@ -308,7 +362,9 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
         for (c[2] = stencil.base[2] - 2; c[2] <= stencil.base[2] + 3; ++c[2]) {
           bool inside = true;
           for (int a = 0; a < 3; ++a) inside = inside && c[a] >= 0 && c[a] < config_.domain_cells[a];
-          if (inside && cell_sample.emplace(cell_key(c), s).second) cells.emplace_back(cell_key(c), s);
+          if (!inside) continue;
+          const std::uint64_t key = rom::node_key(c[0], c[1], c[2]);
+          if (cell_sample.emplace(key, s).second) cells.emplace_back(key, s);
         }
   }
   // ℓ³ points per cell; each starts its inversion from the linearisation of g at its cell's sample.
@@ -404,7 +460,7 @@ void ReducedSim::substep(float dt) {
                   sample_dg_dxhat_.span()});
     rom::latent_to_point_velocity(exec_, r, sample_dg_dxhat_.span(), vhat_device_.span(),
                                   Vec3Planes<float>(samples_.v.data(), m));
-    quadrature = options_.quadrature == RomQuadrature::Lagrangian ? lagrangian_quadrature() : eulerian_quadrature(m);
+    quadrature = options_.quadrature == RomQuadrature::Lagrangian ? lagrangian_quadrature(m) : eulerian_quadrature(m);
   });
   // Alg. 5: P2G from the quadrature points, the grid update, G2P at the samples.
   timed([&] { grid_.rebuild(exec_, Vec3Planes<const float>(quadrature.x)); });
@@ -415,6 +471,10 @@ void ReducedSim::substep(float dt) {
   timed([&] { mpm::grid_to_particle(exec_, samples, grid, step); });
   inputs_.check_stages("reduced simulation: ", steps_, time_, [this](mpm::Stage stage, std::int64_t slot) {
     // P2G runs over the quadrature points; G2P over the samples, reported as their material points.
+    if (stage != mpm::Stage::G2P && search_neighbours_) {
+      const std::int64_t point = quadrature_index_.to_host(exec_.stream)[std::size_t(slot)];
+      return std::pair<std::int64_t, std::string>(point, fmt::format("material point {} (a quadrature point)", point));
+    }
     if (stage != mpm::Stage::G2P)
       return std::pair<std::int64_t, std::string>(slot, fmt::format("quadrature point {}", slot));
     const std::int64_t point = sample_index_.to_host(exec_.stream)[std::size_t(slot)];

@@ -3,11 +3,14 @@
 // from the deformation map g, runs the MPM update for a few sample material points, and projects
 // their updated velocities (and positions) back onto the manifold.
 //
-// Quadrature (Sec. 3.2.2). Lagrangian (Alg. 3) uses every material point as a quadrature point: points
-// farther than a stencil from the samples' grid nodes add nothing to those nodes, so this is Alg. 3's
-// result at Alg. 3's P-dependent cost (the paper finds no speed-up for Lagrangian quadrature either).
-// Eulerian (Alg. 4) places ℓ points per cell per axis in the cells whose points reach the samples'
-// grid nodes and inverts g there: its cost depends on the sample count, not on P.
+// Quadrature (Sec. 3.2.2). Lagrangian (Alg. 3): the samples and their neighbours, the material points
+// whose stencils reach the samples' grid nodes (kernels/rom/stencil_neighbours.h). Finding them takes
+// g's positions at every point (a forward pass, a quarter of what the full kinematics cost per point);
+// the Jacobians, P2G and the stress are then paid only at the neighbours. Where the neighbours would be
+// most of the body anyway (few points per sample's reach), every point is the quadrature, which gives
+// the samples the same P2G without the search. Eulerian (Alg. 4) places ℓ points per cell per axis in
+// the cells whose points reach the samples' grid nodes and inverts g there: its cost depends on the
+// sample count, not on P.
 #pragma once
 
 #include <cstdint>
@@ -30,6 +33,11 @@ namespace romp {
 
 enum class RomQuadrature { Lagrangian, Eulerian };
 
+// Whether the Lagrangian quadrature searches the samples' neighbours or takes every material point (the
+// samples' P2G is the same either way). Auto searches when the neighbours are bound to be under half
+// the points: samples × 5³ cells × points per cell < P / 2.
+enum class NeighbourSearch { Auto, Always, Never };
+
 enum class RomProjection {
   Velocity,          // Alg. 7: v̂ from the trial velocities, x̂ += Δt v̂
   PositionVelocity,  // Alg. 6: v̂ as Alg. 7, x̂ by Gauss–Newton on the trial positions
@@ -38,6 +46,7 @@ enum class RomProjection {
 struct ReducedOptions {
   RomQuadrature quadrature = RomQuadrature::Lagrangian;
   RomProjection projection = RomProjection::Velocity;
+  NeighbourSearch neighbour_search = NeighbourSearch::Auto;  // Lagrangian quadrature
   int points_per_cell = 2;  // ℓ of the Eulerian quadrature, per axis
   // Newton inversion of g for Eulerian points: at most this many iterations, converged within
   // inversion_tolerance × dx.
@@ -90,13 +99,20 @@ class ReducedSim {
   std::int64_t quadrature_points_unconverged() const { return quadrature_unconverged_; }
   // The quadrature mass of the last substep (kg): with every point sampled, the body's mass.
   double last_quadrature_mass() const { return last_quadrature_mass_; }
+  // Lagrangian quadrature: whether it searches the samples' neighbours, and the quadrature points of
+  // the last substep (the samples and their neighbours, or every material point).
+  bool searches_neighbours() const { return search_neighbours_; }
+  Index last_quadrature_count() const { return quadrature_.count; }
+  // Lagrangian quadrature points summed over the substeps so far.
+  std::int64_t lagrangian_quadrature_points() const { return lagrangian_points_; }
   std::vector<std::pair<std::string, double>> stage_seconds() const { return stage_seconds_; }
 
  private:
   std::vector<std::int32_t> choose_samples();
   void resize_samples(Index m);
   // The quadrature points of this substep in quadrature_, and their view.
-  mpm::ParticleView lagrangian_quadrature();
+  mpm::ParticleView lagrangian_quadrature(Index m);
+  void every_point_quadrature();
   mpm::ParticleView eulerian_quadrature(Index m);
   void build_occupancy(const mpm::ParticleInit& reference);
   rom::DeformationMapView<float> map_view() const;
@@ -124,15 +140,24 @@ class ReducedSim {
   DeviceBuffer<std::int32_t> material_, dirichlet_group_, id_;
   std::vector<std::int32_t> free_points_;                  // not in a Dirichlet group
   std::vector<std::vector<std::int32_t>> group_members_;  // per Dirichlet group
-  // The quadrature points of a substep (Lagrangian: every material point, in reference order).
+  // The quadrature points of a substep (Lagrangian: the samples and their neighbours, or every material
+  // point, in reference order).
   struct Quadrature {
-    Index count = 0;
+    Index count = 0, capacity = 0;
     DeviceBuffer<float> x, X, v, C, F, mass, volume0;
     DeviceBuffer<std::int32_t> material, group, id, status;
     void allocate(Backend backend, Index n);
+    // count = n, reallocating (with headroom) only when n exceeds the capacity.
+    void resize(Backend backend, Index n);
     mpm::ParticleView view();
   } quadrature_;
-  DeviceBuffer<float> dg_dxhat_;  // Lagrangian: ∂g/∂x̂ at every material point
+  DeviceBuffer<float> dg_dxhat_;  // Lagrangian: ∂g/∂x̂ at the quadrature points
+  // Lagrangian neighbour search: g's positions at every point, the base nodes near the samples, the
+  // points marked as neighbours and their indices.
+  bool search_neighbours_ = false;
+  DeviceBuffer<float> positions_;
+  DeviceBuffer<std::uint64_t> near_bases_;
+  DeviceBuffer<std::int32_t> marked_, quadrature_index_;
   // The samples: reference and current state, ∂g/∂x̂ there, and g during Gauss–Newton.
   Quadrature samples_;
   DeviceBuffer<float> sample_dg_dxhat_, model_x_;
@@ -152,6 +177,7 @@ class ReducedSim {
   std::int64_t steps_ = 0;
   std::int64_t unconverged_projections_ = 0;
   std::int64_t quadrature_used_ = 0, quadrature_outside_ = 0, quadrature_unconverged_ = 0;
+  std::int64_t lagrangian_points_ = 0;
   double last_quadrature_mass_ = 0.0;
   std::vector<std::pair<std::string, double>> stage_seconds_;
 };

@@ -83,6 +83,10 @@ class ReducedRun final : public Simulation {
     std::vector<std::string> lines;
     lines.push_back(fmt::format("reduced-order: {} substeps, {} position projections stopped unconverged",
                                 sim_.steps(), sim_.unconverged_projections()));
+    if (sim_.searches_neighbours() && sim_.steps() > 0)
+      lines.push_back(fmt::format("Lagrangian quadrature: the samples and their neighbours, {:.0f} of {} material "
+                                  "points per substep on average",
+                                  double(sim_.lagrangian_quadrature_points()) / double(sim_.steps()), X_.size() / 3));
     const std::int64_t points =
         sim_.quadrature_points_used() + sim_.quadrature_points_outside() + sim_.quadrature_points_unconverged();
     if (points > 0)

@@ -98,6 +98,56 @@ TEST(ReducedSim, TenSamplesFollowTheSameTrajectoryAsEveryPoint) {
   EXPECT_LT(largest_difference(reduced_positions({}), reduced_positions(hyper)), kTrajectoryTolerance);
 }
 
+// Alg. 3's neighbour search gives the samples the P2G of every material point: the same trajectory under
+// a map that deforms the body (stress everywhere), from a fraction of the points.
+TEST(ReducedSim, NeighbourQuadratureFollowsEveryPointQuadrature) {
+  mpm::ParticleInit large = test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2,
+                                              1000.0f);
+  const rom::DeformationMapWeights map = test::small_nonlinear_map(0.25f, 0.5f, 0.003f);
+  auto run = [&](NeighbourSearch search, Index* quadrature_points) {
+    ReducedOptions options;
+    options.samples = 3;
+    options.seed = 5;
+    options.neighbour_search = search;
+    ReducedSim sim(test::exec(), falling_config(), large, map, {0.0f, 0.0f, 0.0f}, options);
+    EXPECT_EQ(sim.searches_neighbours(), search == NeighbourSearch::Always);
+    for (int s = 0; s < 10; ++s) sim.substep(kDt);
+    *quadrature_points = sim.last_quadrature_count();
+    return sim.xhat();
+  };
+  Index every = 0, neighbours = 0;
+  const std::vector<float> reference = run(NeighbourSearch::Never, &every);
+  const std::vector<float> searched = run(NeighbourSearch::Always, &neighbours);
+  EXPECT_EQ(every, large.count());
+  EXPECT_GT(neighbours, 0);
+  EXPECT_LT(neighbours, large.count() / 4);  // 3 samples reach a few hundred of the 32,768 points
+  float change = 0.0f;
+  for (int j = 0; j < 3; ++j) {
+    change = std::max(change, std::fabs(reference[j]));
+    // The sums at the samples' nodes may take other orders (threads' atomics): rounding only. Leaving out
+    // the neighbours two nodes away changes x̂ by 3-200 %.
+    EXPECT_NEAR(searched[j], reference[j], 1e-3f * std::fabs(reference[j]) + 1e-9f) << j;
+  }
+  EXPECT_GT(change, 3e-4f);  // x̂ moved (the body fell 0.5 mm): the comparison is not of two resting states
+}
+
+// Auto searches only where the samples reach under half the body: never with every point sampled, nor
+// on a body a few stencils across.
+TEST(ReducedSim, AutoSearchesNeighboursOnlyWhereTheyAreFewerThanThePoints) {
+  mpm::ParticleInit large = test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2,
+                                              1000.0f);
+  auto searches = [&](const mpm::ParticleInit& body, Index samples) {
+    ReducedOptions options;
+    options.samples = samples;
+    return ReducedSim(test::exec(), falling_config(), body, test::translation_map(), {0.0f, 0.0f, 0.0f}, options)
+        .searches_neighbours();
+  };
+  EXPECT_TRUE(searches(large, 3));     // 3 × 125 cells × 8 points = 3,000 < 32,768 / 2
+  EXPECT_FALSE(searches(large, 100));  // 100,000 points' reach: the body
+  EXPECT_FALSE(searches(large, 0));    // every point is a sample
+  EXPECT_FALSE(searches(cube(), 3));   // 3,000 of 4,096
+}
+
 TEST(ReducedSim, EulerianQuadratureReproducesTheFullOrderTranslation) {
   ReducedOptions eulerian;
   eulerian.quadrature = RomQuadrature::Eulerian;
