@@ -26,6 +26,8 @@ const std::vector<Suite> kSuites = {
     {"svd", "batched 3x3 SVD against Eigen (CPU) and cuSOLVER (GPU); share of copy bandwidth", romp::bench::run_svd_suite},
     {"train", "seconds per neural-law training epoch (1000 substeps forward and backward)", romp::bench::run_train_suite},
     {"mlp", "deformation map g, grad g, dg/dxhat at 1k-200k points: fused kernel against LibTorch", romp::bench::run_mlp_suite},
+    {"quadrature", "reduced substep, Lagrangian quadrature over every point against over the samples' neighbours",
+     romp::bench::run_quadrature_suite},
     {"rom", "ROM error against wall time per simulated second, every quadrature x projection (--scene, --rom-model)",
      romp::bench::run_rom_suite},
     {"stability", "robust-elasticity matrix: each case ends finite with bounded energy or stops with a message",

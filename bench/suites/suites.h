@@ -8,6 +8,8 @@ namespace romp::bench {
 void run_memory_suite(Context& context);
 // The deformation map's value and derivatives: romp's fused kernel against LibTorch.
 void run_mlp_suite(Context& context);
+// One reduced substep with Lagrangian quadrature over every point against over the samples' neighbours.
+void run_quadrature_suite(Context& context);
 // Error against run time of every ROM configuration on a scene (needs --scene and --rom-model).
 void run_rom_suite(Context& context);
 // The robust-elasticity matrix: models × E × ν × scenarios × integrators × plain/enriched under a budget.
