@@ -30,15 +30,18 @@ std::string errors_text(const nn::rom::ReconstructionErrors& e) {
   return fmt::format("x {}, F {}, v {}", percent(e.position), percent(e.F), percent(e.velocity));
 }
 
-// "epoch 20/1000  lr 1e-03  loss 3.1e-03 (x 2.0e-05, F 3.0e-05, v 1.2e-02)  test x 0.81%, F 2.3%, v 14%  epoch
-// 0.55 s, 12.3 s, ETA 605 s"
+// "epoch 20/1000  lr 1e-03  loss 3.1e-03 (x 2.0e-05, F 3.0e-05, v 1.2e-02)  test x 0.81%, F 2.3%, v 14% (256 of
+// 1867 points)  epoch 0.55 s, 12.3 s, ETA 605 s"
 void print_report(const nn::rom::EpochReport& r) {
   const double per_epoch = r.seconds / double(r.epoch - r.started_at);
+  const std::string test =
+      !r.test ? "n/a (no test members)"
+      : r.test_points < r.points ? fmt::format("{} ({} of {} points)", errors_text(*r.test), r.test_points, r.points)
+                                 : errors_text(*r.test);
   fmt::print(
       "epoch {}/{}  lr {:.0e}  loss {:.3e} (x {:.2e}, F {:.2e}, v {:.2e})  test {}  epoch {:.2f} s, {:.1f} s, ETA {:.0f} "
       "s{}\n",
-      r.epoch, r.epochs, r.learning_rate, r.loss, r.position, r.F, r.velocity,
-      r.test ? errors_text(*r.test) : "n/a (no test members)", r.epoch_seconds, r.seconds,
+      r.epoch, r.epochs, r.learning_rate, r.loss, r.position, r.F, r.velocity, test, r.epoch_seconds, r.seconds,
       per_epoch * double(r.epochs - r.epoch), r.checkpointed ? "  [checkpoint]" : "");
   std::fflush(stdout);
 }

@@ -140,7 +140,10 @@ TrainResult train_rom(const RomDataset& data, const TrainOptions& options,
       line.position = epoch_means[1].item<double>();
       line.F = epoch_means[2].item<double>();
       line.velocity = epoch_means[3].item<double>();
-      if (data.test.size() > 0) line.test = reconstruction_errors(model, data.X, data.test, settings.derivatives);
+      line.points = data.X.size(0);
+      line.test_points = evaluated_points(line.points, options.report_points);
+      if (data.test.size() > 0)
+        line.test = reconstruction_errors(model, data.X, data.test, settings.derivatives, options.report_points);
       line.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       report(line);
     }

@@ -15,6 +15,9 @@ namespace romp::nn::rom {
 struct TrainOptions {
   TrainingSettings settings;
   std::int64_t report_every = 10;      // epochs between reports (there is also one after the first and the last)
+  // Material points per test snapshot a report compares (evenly spaced; 0: all). The record written at the
+  // end always compares every point.
+  std::int64_t report_points = 256;
   std::string checkpoint;              // checkpoint file; empty: none
   std::int64_t checkpoint_every = 50;  // epochs between checkpoints (and one when stopped on request)
   bool resume = false;                 // continue from `checkpoint`, which must be from the same data and settings
@@ -28,6 +31,7 @@ struct EpochReport {
   double seconds = 0.0;                                         // since this call started
   double epoch_seconds = 0.0;  // this epoch's mini-batches alone (no evaluation or checkpoint)
   std::optional<ReconstructionErrors> test;                     // when the sweep has test members
+  std::int64_t test_points = 0, points = 0;  // material points per snapshot compared for `test`, of all
   bool checkpointed = false;
 };
 

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "nn/rom/rom_evaluation.h"
 #include "nn/rom/rom_model_file.h"
 #include "tests/nn/rom/twisted_bar.h"
 #include "tests/support/scratch_folder.h"
@@ -66,6 +67,40 @@ TEST(RomTrainer, ResumedRunEndsBitwiseWhereTheUninterruptedOneDoes) {
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(torch::equal(a[i], b[i])) << "parameter " << i;
   EXPECT_EQ(resumed.model.training.test_errors.position, whole.model.training.test_errors.position);
+}
+
+// Progress reports compare a few evenly spaced points per test snapshot (the record at the end compares all):
+// an estimate close to the whole set's errors, and exactly them when asked for every point.
+TEST(RomTrainer, ReportsEstimateTheTestErrorsFromAFewPoints) {
+  torch::set_num_threads(1);
+  const test::ScratchFolder folder;
+  test::TwistedBar bar;
+  bar.members = 3;
+  bar.test_members = {1};
+  bar.frames = 5;
+  bar.write(folder.path());
+  TrainOptions options;
+  options.settings = bar_settings();
+  options.settings.epochs = 4;
+  options.report_points = 16;
+  const RomDataset data = load_rom_dataset(folder.path().string(), {0, options.settings.seed, torch::kCPU});
+  const std::int64_t P = data.X.size(0);
+  std::vector<EpochReport> reports;
+  const TrainResult result = train_rom(data, options, [&](const EpochReport& r) { reports.push_back(r); });
+  ASSERT_FALSE(reports.empty());
+  EXPECT_EQ(reports.back().points, P);
+  EXPECT_EQ(reports.back().test_points, evaluated_points(P, 16));
+  EXPECT_LE(reports.back().test_points, 16);
+
+  const ReconstructionErrors all = reconstruction_errors(result.model, data.X, data.test);
+  const ReconstructionErrors also_all = reconstruction_errors(result.model, data.X, data.test, DerivativeMethod::Analytic, P);
+  EXPECT_EQ(also_all.position, all.position);
+  EXPECT_EQ(also_all.F, all.F);
+  EXPECT_EQ(all.position, result.model.training.test_errors.position);
+  const ReconstructionErrors estimate = reconstruction_errors(result.model, data.X, data.test, DerivativeMethod::Analytic, P / 4);
+  EXPECT_NEAR(estimate.position, all.position, 0.25 * all.position);
+  EXPECT_NEAR(estimate.F, all.F, 0.25 * all.F);
+  EXPECT_NE(estimate.position, all.position);  // fewer points were compared
 }
 
 TEST(RomTrainer, CheckpointOfOtherSettingsIsRefusedListingTheDifferences) {
