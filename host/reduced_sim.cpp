@@ -327,6 +327,8 @@ mpm::ParticleView ReducedSim::lagrangian_quadrature(Index m) {
     quadrature_.resize(exec_.backend, Index(chosen.size()));
     quadrature_index_ = DeviceBuffer<std::int32_t>::from_host(exec_.backend, chosen, exec_.stream);
     gather(exec_, X_, n, 3, quadrature_index_, quadrature_.X);
+    // The positions the search saw, so P2G bins each point exactly where it was found.
+    gather(exec_, positions_, n, 3, quadrature_index_, quadrature_.x);
     gather(exec_, mass_, n, 1, quadrature_index_, quadrature_.mass);
     gather(exec_, volume0_, n, 1, quadrature_index_, quadrature_.volume0);
     gather(exec_, material_, n, 1, quadrature_index_, quadrature_.material);
@@ -338,8 +340,8 @@ mpm::ParticleView ReducedSim::lagrangian_quadrature(Index m) {
   const Index q = quadrature_.count;
   lagrangian_points_ += q;
   const Span<float> dg_dxhat(dg_dxhat_.data(), 3 * Index(latent_) * q);
-  evaluate_map(Vec3Planes<const float>(quadrature_.X.data(), q),
-               {Vec3Planes<float>(quadrature_.x.data(), q), Mat3Planes<float>(quadrature_.F.data(), q), dg_dxhat});
+  const Vec3Planes<float> x = search_neighbours_ ? Vec3Planes<float>() : Vec3Planes<float>(quadrature_.x.data(), q);
+  evaluate_map(Vec3Planes<const float>(quadrature_.X.data(), q), {x, Mat3Planes<float>(quadrature_.F.data(), q), dg_dxhat});
   rom::latent_to_point_velocity(exec_, latent_, dg_dxhat, vhat_device_.span(), Vec3Planes<float>(quadrature_.v.data(), q));
   return quadrature_.view();
 }
