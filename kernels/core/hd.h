@@ -11,6 +11,16 @@
 #define ROMP_HD_INLINE inline
 #endif
 
+// ROMP_SIMD_SUM(sum) before a loop that only adds to `sum`: the host compiler may vectorise it, summing
+// in lanes (a fixed order for a given build, not the loop's). Nothing on the device, where one thread
+// already works on one point.
+#define ROMP_PRAGMA(text) _Pragma(#text)
+#if defined(__CUDA_ARCH__) || !defined(_OPENMP)
+#define ROMP_SIMD_SUM(sum)
+#else
+#define ROMP_SIMD_SUM(sum) ROMP_PRAGMA(omp simd reduction(+ : sum))
+#endif
+
 namespace romp {
 
 // Element counts and indices. 64-bit so particle and node counts never overflow.

@@ -43,9 +43,10 @@ ROMP_HD void evaluate_map_point(const DeformationMapView<T>& map, const T* xhat,
     const T* W = layer_start;
     const T* b = W + n_out * in;
     for (int o = 0; o < n_out; ++o) {
-      T sum = b[o];
+      T sum = T(0);
+      ROMP_SIMD_SUM(sum)
       for (int j = 0; j < in; ++j) sum += W[o * in + j] * a[j];
-      z[o] = sum;
+      z[o] = b[o] + sum;
     }
     if (k < map.hidden_layers) {
       for (int o = 0; o < n_out; ++o) {
@@ -72,12 +73,15 @@ ROMP_HD void evaluate_map_point(const DeformationMapView<T>& map, const T* xhat,
       const T* W = b - n_out * in;
       // rowᵀ W, then the slopes of layer k − 1's ELU; at k = H, e_oᵀ W is W's row o.
       const int first = k == map.hidden_layers ? o : 0, count = k == map.hidden_layers ? 1 : n_out;
-      for (int j = 0; j < in; ++j) {
-        T sum = T(0);
-        for (int q = 0; q < count; ++q) sum += row[q] * W[(first + q) * in + j];
-        next[j] = k > 0 ? sum * slope[k - 1][j] : sum;
+      // Row by row of W, so the inner loop runs along W's contiguous rows (it vectorises on the CPU); each
+      // next[j] still sums over q in order.
+      for (int j = 0; j < in; ++j) next[j] = T(0);
+      for (int q = 0; q < count; ++q) {
+        const T weight = row[q];
+        const T* W_row = W + (first + q) * in;
+        for (int j = 0; j < in; ++j) next[j] += weight * W_row[j];
       }
-      for (int j = 0; j < in; ++j) row[j] = next[j];
+      for (int j = 0; j < in; ++j) row[j] = k > 0 ? next[j] * slope[k - 1][j] : next[j];
       layer_end = W;
     }
     for (int c = 0; c < 3; ++c) gradient(o, c) += map.u_std[o] * row[map.latent + c] * map.X_scale[c];
