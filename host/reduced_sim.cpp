@@ -295,6 +295,16 @@ float ReducedSim::stable_dt() const {
   return std::min(config_.max_dt, config_.cfl * config_.dx / (inputs_.max_wave_speed() + max_sample_speed_));
 }
 
+void ReducedSim::gather_reference(const DeviceBuffer<std::int32_t>& index, Quadrature& points) {
+  const Index n = points_;
+  gather(exec_, X_, n, 3, index, points.X);
+  gather(exec_, mass_, n, 1, index, points.mass);
+  gather(exec_, volume0_, n, 1, index, points.volume0);
+  gather(exec_, material_, n, 1, index, points.material);
+  gather(exec_, dirichlet_group_, n, 1, index, points.group);
+  gather(exec_, id_, n, 1, index, points.id);
+}
+
 void ReducedSim::every_point_quadrature() {
   // Every material point is a quadrature point: its mass, volume and tables never change.
   const Backend backend = exec_.backend;
@@ -326,14 +336,9 @@ mpm::ParticleView ReducedSim::lagrangian_quadrature(Index m) {
       if (marked[std::size_t(p)]) chosen.push_back(std::int32_t(p));
     quadrature_.resize(exec_.backend, Index(chosen.size()));
     quadrature_index_ = DeviceBuffer<std::int32_t>::from_host(exec_.backend, chosen, exec_.stream);
-    gather(exec_, X_, n, 3, quadrature_index_, quadrature_.X);
+    gather_reference(quadrature_index_, quadrature_);
     // The positions the search saw, so P2G bins each point exactly where it was found.
     gather(exec_, positions_, n, 3, quadrature_index_, quadrature_.x);
-    gather(exec_, mass_, n, 1, quadrature_index_, quadrature_.mass);
-    gather(exec_, volume0_, n, 1, quadrature_index_, quadrature_.volume0);
-    gather(exec_, material_, n, 1, quadrature_index_, quadrature_.material);
-    gather(exec_, dirichlet_group_, n, 1, quadrature_index_, quadrature_.group);
-    gather(exec_, id_, n, 1, quadrature_index_, quadrature_.id);
     if (dg_dxhat_.size() < 3 * Index(latent_) * quadrature_.count)
       dg_dxhat_ = DeviceBuffer<float>(exec_.backend, 3 * Index(latent_) * quadrature_.capacity);
   }
@@ -444,12 +449,7 @@ void ReducedSim::substep(float dt) {
     m = Index(chosen.size());
     resize_samples(m);
     sample_index_ = DeviceBuffer<std::int32_t>::from_host(backend, chosen, exec_.stream);
-    gather(exec_, X_, n, 3, sample_index_, samples_.X);
-    gather(exec_, mass_, n, 1, sample_index_, samples_.mass);
-    gather(exec_, volume0_, n, 1, sample_index_, samples_.volume0);
-    gather(exec_, material_, n, 1, sample_index_, samples_.material);
-    gather(exec_, dirichlet_group_, n, 1, sample_index_, samples_.group);
-    gather(exec_, id_, n, 1, sample_index_, samples_.id);
+    gather_reference(sample_index_, samples_);
   });
 
   // Alg. 3 / 4: the kinematics at x̂_n, v̂_n of the samples and of the quadrature points.

@@ -151,6 +151,8 @@ class ReducedSim {
     void resize(Backend backend, Index n);
     mpm::ParticleView view();
   } quadrature_;
+  // The reference state (X, mass, volume, material, Dirichlet group, id) of the material points `index`.
+  void gather_reference(const DeviceBuffer<std::int32_t>& index, Quadrature& points);
   DeviceBuffer<float> dg_dxhat_;  // Lagrangian: ∂g/∂x̂ at the quadrature points
   // Lagrangian neighbour search: g's positions at every point, the base nodes near the samples, the
   // points marked as neighbours and their indices.

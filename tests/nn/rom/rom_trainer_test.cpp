@@ -23,6 +23,15 @@ TrainingSettings bar_settings() {
   return s;
 }
 
+// Three twists of five frames, the middle one held out: enough for a few epochs of a quick run.
+void write_short_bar(const test::ScratchFolder& folder) {
+  test::TwistedBar bar;
+  bar.members = 3;
+  bar.test_members = {1};
+  bar.frames = 5;
+  bar.write(folder.path());
+}
+
 TEST(RomTrainer, LearnsTheTwistedBarToBelowOnePercentOnHeldOutTwists) {
   torch::set_num_threads(1);  // deterministic and fair to the other tests ctest runs beside this one
   const test::ScratchFolder folder;
@@ -40,11 +49,7 @@ TEST(RomTrainer, LearnsTheTwistedBarToBelowOnePercentOnHeldOutTwists) {
 TEST(RomTrainer, ResumedRunEndsBitwiseWhereTheUninterruptedOneDoes) {
   torch::set_num_threads(1);
   const test::ScratchFolder folder;
-  test::TwistedBar bar;
-  bar.members = 3;
-  bar.test_members = {1};
-  bar.frames = 5;
-  bar.write(folder.path());
+  write_short_bar(folder);
   TrainOptions options;
   options.settings = bar_settings();
   options.settings.epochs = 6;
@@ -74,11 +79,7 @@ TEST(RomTrainer, ResumedRunEndsBitwiseWhereTheUninterruptedOneDoes) {
 TEST(RomTrainer, ReportsEstimateTheTestErrorsFromAFewPoints) {
   torch::set_num_threads(1);
   const test::ScratchFolder folder;
-  test::TwistedBar bar;
-  bar.members = 3;
-  bar.test_members = {1};
-  bar.frames = 5;
-  bar.write(folder.path());
+  write_short_bar(folder);
   TrainOptions options;
   options.settings = bar_settings();
   options.settings.epochs = 4;
