@@ -169,6 +169,7 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
     (group == mpm::kNoDirichletGroup ? free_points_ : group_members_[std::size_t(group)]).push_back(std::int32_t(p));
   }
   system_ = DeviceBuffer<double>(backend, Index(latent_) * latent_ + latent_ + 1);
+  first_outside_ = DeviceBuffer<std::int64_t>(backend, 1);
   xhat_ = std::move(xhat);
   xhat_device_ = DeviceBuffer<float>::from_host(backend, xhat_);
 
@@ -464,6 +465,9 @@ void ReducedSim::substep(float dt) {
                                   Vec3Planes<float>(samples_.v.data(), m));
     quadrature = options_.quadrature == RomQuadrature::Lagrangian ? lagrangian_quadrature(m) : eulerian_quadrature(m);
   });
+  check_inside_domain(samples_.x, m, &sample_index_);
+  if (options_.quadrature == RomQuadrature::Lagrangian)
+    check_inside_domain(quadrature_.x, quadrature_.count, search_neighbours_ ? &quadrature_index_ : nullptr);
   // Alg. 5: P2G from the quadrature points, the grid update, G2P at the samples.
   timed([&] { grid_.rebuild(exec_, Vec3Planes<const float>(quadrature.x)); });
   const mpm::GridView grid = grid_.view();
@@ -551,6 +555,29 @@ void ReducedSim::check_latent(const char* stage) const {
     throw NonFiniteError(fmt::format("reduced simulation: x̂ or v̂ is not finite after {} at step {} (t = {:.6g} s)",
                                      stage, steps_, time_),
                          steps_, mpm::Stage::G2P, -1);
+}
+
+void ReducedSim::check_inside_domain(const DeviceBuffer<float>& x, Index count, const DeviceBuffer<std::int32_t>* index) {
+  // The band the full-order step keeps particles in (mpm::kept_inside_domain).
+  Vec3<float> low, high;
+  for (int a = 0; a < 3; ++a) {
+    low[a] = mpm::kDomainMarginCells * config_.dx;
+    high[a] = (float(config_.domain_cells[a]) - mpm::kDomainMarginCells) * config_.dx;
+  }
+  const std::vector<std::int64_t> none{rom::kNoPointOutside};
+  first_outside_.copy_from_host(Span<const std::int64_t>(none.data(), 1), exec_.stream);
+  rom::find_point_outside(exec_, Vec3Planes<const float>(x.data(), count), low, high, first_outside_.span());
+  const std::int64_t slot = first_outside_.to_host(exec_.stream)[0];
+  if (slot == rom::kNoPointOutside) return;
+  const std::int64_t point = index ? index->to_host(exec_.stream)[std::size_t(slot)] : slot;
+  const std::vector<float> positions = x.to_host(exec_.stream);
+  throw NonFiniteError(
+      fmt::format("reduced simulation: material point {} decodes to ({:.4g}, {:.4g}, {:.4g}) m at step {} (t = {:.6g} "
+                  "s), outside the domain's interior [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] m: x̂ = [{}] "
+                  "has left the states the map describes (the reduced dynamics diverged)",
+                  point, positions[slot], positions[count + slot], positions[2 * count + slot], steps_, time_,
+                  low[0], high[0], low[1], high[1], low[2], high[2], fmt::join(xhat_, ", ")),
+      steps_, mpm::Stage::P2G, point);
 }
 
 void ReducedSim::advance_to(double t) {

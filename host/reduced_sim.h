@@ -124,6 +124,10 @@ class ReducedSim {
   std::vector<float> project_positions(const std::vector<float>& guess, Index samples);
   // Throws NonFiniteError when x̂ or v̂ is not finite after `stage`.
   void check_latent(const char* stage) const;
+  // Throws NonFiniteError naming the material point when one of the `count` positions in `x` (3 planes: the
+  // samples' or the Lagrangian quadrature's, `index` their material points, or none for every point) lies
+  // outside the grid's interior: x̂ has gone where the map no longer describes the body.
+  void check_inside_domain(const DeviceBuffer<float>& x, Index count, const DeviceBuffer<std::int32_t>* index);
 
   Exec exec_;
   FullOrderConfig config_;
@@ -160,6 +164,7 @@ class ReducedSim {
   DeviceBuffer<float> positions_;
   DeviceBuffer<std::uint64_t> near_bases_;
   DeviceBuffer<std::int32_t> marked_, quadrature_index_;
+  DeviceBuffer<std::int64_t> first_outside_;  // 1 slot for rom::find_point_outside
   // The samples: reference and current state, ∂g/∂x̂ there, and g during Gauss–Newton.
   Quadrature samples_;
   DeviceBuffer<float> sample_dg_dxhat_, model_x_;

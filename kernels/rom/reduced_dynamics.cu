@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "kernels/core/atomic.h"
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
 
@@ -56,7 +57,26 @@ struct NormalEquationEntry {
   }
 };
 
+struct FindPointOutside {
+  Vec3Planes<const float> x;
+  Vec3<float> low, high;
+  Span<std::int64_t> first;
+  ROMP_HD void operator()(Index p) const {
+    const Vec3<float> position = x.load(p);
+    bool inside = true;
+    // Written so that NaN compares as outside.
+    for (int a = 0; a < 3; ++a) inside = inside && position[a] >= low[a] && position[a] <= high[a];
+    if (!inside) atomic_min(&first[0], std::int64_t(p));
+  }
+};
+
 }  // namespace
+
+void find_point_outside(const Exec& exec, Vec3Planes<const float> x, Vec3<float> low, Vec3<float> high,
+                        Span<std::int64_t> first) {
+  ROMP_CHECK(first.size() >= 1, "find_point_outside needs one slot");
+  if (x.count() > 0) for_each(exec, x.count(), FindPointOutside{x, low, high, first});
+}
 
 void latent_to_point_velocity(const Exec& exec, int latent, Span<const float> dg_dxhat, Span<const float> vhat,
                               Vec3Planes<float> v) {

@@ -3,6 +3,8 @@
 // velocities or positions back onto the manifold.
 #pragma once
 
+#include <cstdint>
+
 #include "kernels/core/exec.h"
 #include "kernels/core/span.h"
 #include "kernels/math/mat3_planes.h"
@@ -21,5 +23,12 @@ void latent_to_point_velocity(const Exec& exec, int latent, Span<const float> dg
 // points in one fixed order, so the result does not depend on the backend's thread count.
 void normal_equations(const Exec& exec, int latent, Span<const float> dg_dxhat, Vec3Planes<const float> target,
                       Vec3Planes<const float> reference, Span<double> system);
+
+// Lowers first[0] (set to kNoPointOutside beforehand) to the lowest index of the n points outside the box
+// [low, high] on some axis; a non-finite coordinate counts as outside. The reduced state decodes to points
+// anywhere its map sends them, so this is how a run finds that x̂ has left what the grid can hold.
+inline constexpr std::int64_t kNoPointOutside = INT64_MAX;
+void find_point_outside(const Exec& exec, Vec3Planes<const float> x, Vec3<float> low, Vec3<float> high,
+                        Span<std::int64_t> first);
 
 }  // namespace romp::rom

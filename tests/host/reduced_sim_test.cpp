@@ -205,6 +205,27 @@ TEST(ReducedSim, NonFiniteGeneralizedCoordinatesStopWithAClearError) {
   }
 }
 
+// A reduced state that decodes outside the grid (x̂ diverged) stops the run, naming the step and the
+// first material point out, for samples and Lagrangian quadrature points alike.
+TEST(ReducedSim, StateDecodedOutsideTheDomainStopsNamingThePoint) {
+  for (const Index samples : {Index(0), Index(10)}) {
+    // x̂ = (0.6, 0, 0) moves the cube's far face (x = 0.625) to 1.225 m, past the 1 m domain.
+    ReducedOptions options;
+    options.samples = samples;
+    ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.6f, 0.0f, 0.0f}, options);
+    try {
+      sim.substep(kDt);
+      FAIL() << "a state outside the domain must be an error";
+    } catch (const NonFiniteError& error) {
+      const std::string message = error.what();
+      EXPECT_EQ(error.step(), 0);
+      EXPECT_GE(error.index(), 0);
+      EXPECT_NE(message.find("material point " + std::to_string(error.index())), std::string::npos) << message;
+      EXPECT_NE(message.find("outside the domain"), std::string::npos) << message;
+    }
+  }
+}
+
 // A PIC scene (pic-flip with flip_alpha = 0, the paper's full-order model) runs the same reduced step
 // as an APIC one, which the full-order PIC run of the translating cube matches too; FLIP is refused.
 TEST(ReducedSim, PicScenesRunTheSameStepAndFlipIsRefused) {
