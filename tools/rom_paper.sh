@@ -4,7 +4,8 @@
 # test members, and `romp compare` of each against the member's full-order run. Prints a markdown
 # table: the accumulated position error, mean over the test members (worst in parentheses).
 #
-#   tools/rom_paper.sh EXPERIMENT OUTPUT_DIR [--epochs N] [--schemes LIST] [--samples LIST] [--jobs N] [-- romp options]
+#   tools/rom_paper.sh EXPERIMENT OUTPUT_DIR [--epochs N] [--schemes LIST] [--samples LIST] [--jobs N] [--rom-cfl X]
+#                      [-- romp options]
 #
 # EXPERIMENT
 #   gravity-samples   Fig. 11: the gravity cylinder (r = 4), error against the number of sample points
@@ -24,8 +25,9 @@
 # --schemes: comma-separated among lagrangian-position, lagrangian-velocity, eulerian-position,
 # eulerian-velocity (default: all four; quadrature, then projection); --samples: comma-separated sample
 # counts, 0 for all points, in place of the experiment's rows; --jobs N: reduced runs of one table cell
-# at once (default 1; runs pass `-- --threads 1` to share the cores); options after -- go to every romp
-# command (e.g. -- --device cpu --threads 1).
+# at once (default 1; runs pass `-- --threads 1` to share the cores); --rom-cfl X: the reduced runs'
+# substeps at CFL number X instead of the scene's (romp run --rom-cfl; their files are tagged -cflX);
+# options after -- go to every romp command (e.g. -- --device cpu --threads 1).
 #
 # Steps whose output exists are skipped and an interrupted training resumes from its checkpoint, so
 # experiments on the same OUTPUT_DIR share sweeps and maps; an existing sweep placed at
@@ -33,17 +35,19 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 romp="${ROMP:-$root/build/romp}"
-usage() { sed -n '7,32p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '7,34p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 [ $# -ge 2 ] || usage
 experiment="$1" out="$2"
 shift 2
 epochs=80 schemes="lagrangian-position,lagrangian-velocity,eulerian-position,eulerian-velocity" sample_rows="" jobs=1
+rom_cfl=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --epochs) epochs="$2"; shift 2 ;;
     --schemes) schemes="$2"; shift 2 ;;
     --samples) sample_rows="$2"; shift 2 ;;
     --jobs) jobs="$2"; shift 2 ;;
+    --rom-cfl) rom_cfl="$2"; shift 2 ;;
     --) shift; break ;;
     *) usage ;;
   esac
@@ -102,7 +106,7 @@ error() {
 
 # rom_run_path MODEL SCHEME SAMPLES INDEX: where the member's reduced run goes.
 rom_run_path() {
-  echo "$(dirname "$1")/runs/$(basename "$1" .h5)-$2-s$3-m$4.h5"
+  echo "$(dirname "$1")/runs/$(basename "$1" .h5)-$2-s$3-m$4${rom_cfl:+-cfl$rom_cfl}.h5"
 }
 
 # rom_run MODEL SCHEME SAMPLES INDEX SCENE: runs the member reduced unless done; a failed run leaves
@@ -115,7 +119,8 @@ rom_run() {
   [ -f "$run" ] && [ ! -f "$run.failed" ] && return 0
   rm -f "$run.failed"
   "$romp" "${options[@]}" run --no-progress "$scene" --rom "$model" --quadrature "$quadrature" \
-    --projection "$projection" --samples "$samples" -o "$run" > "${run%.h5}.log" 2>&1 < /dev/null || touch "$run.failed"
+    --projection "$projection" --samples "$samples" ${rom_cfl:+--rom-cfl "$rom_cfl"} -o "$run" \
+    > "${run%.h5}.log" 2>&1 < /dev/null || touch "$run.failed"
 }
 
 # summary VALUES...: "mean % (worst %)", or how many runs failed.
@@ -196,10 +201,10 @@ superres_table() {
     cells[baseline]+=" $([ -f "$tracers" ] && error "$tracers" "$fine" || echo failed)"
     for scheme in "${scheme_list[@]}"; do
       for samples in "$@"; do
-        local run="$folder/$(basename "$model" .h5)-$scheme-s$samples-m$index.h5"
+        local run="$folder/$(basename "$model" .h5)-$scheme-s$samples-m$index${rom_cfl:+-cfl$rom_cfl}.h5"
         [ -f "$run" ] || "$romp" "${options[@]}" run --no-progress "$member_scene" --rom "$model" \
           --quadrature "${scheme%-*}" --projection "${scheme#*-}" --samples "$samples" --output-points "$fine" \
-          -o "$run" > "${run%.h5}.log" 2>&1 || true
+          ${rom_cfl:+--rom-cfl "$rom_cfl"} -o "$run" > "${run%.h5}.log" 2>&1 || true
         cells[$scheme-$samples]+=" $([ -f "$run" ] && error "$run" "$fine" || echo failed)"
       done
     done

@@ -8,10 +8,10 @@
 namespace romp::run {
 
 void add_reduced_run_options(CLI::App& run, ReducedRunOptions& options) {
-  run.add_option("--rom", options.model, "Run reduced-order with this model file (romp train-rom)")
-      ->check(CLI::ExistingFile);
+  CLI::Option* rom = run.add_option("--rom", options.model, "Run reduced-order with this model file (romp train-rom)")
+                         ->check(CLI::ExistingFile);
   run.add_option("--quadrature", options.quadrature,
-                 "Reduced-order quadrature: eulerian (cost follows the samples) or lagrangian (every material point)")
+                 "Reduced-order quadrature: eulerian (cost follows the samples) or lagrangian (the samples' neighbours)")
       ->check(CLI::IsMember({"eulerian", "lagrangian"}));
   run.add_option("--projection", options.projection,
                  "Reduced-order projection: velocity (Alg. 7) or position (position-velocity, Alg. 6)")
@@ -19,6 +19,11 @@ void add_reduced_run_options(CLI::App& run, ReducedRunOptions& options) {
   run.add_option("--samples", options.samples, "Sample material points per substep (0: all)")
       ->check(CLI::NonNegativeNumber);
   run.add_option("--sample-seed", options.seed, "Seed of the samples drawn each substep");
+  run.add_option("--rom-cfl", options.cfl,
+                 "Reduced-order substeps' CFL number, in (0, 1], instead of the scene's time.cfl (a hyper-reduced "
+                 "run may need a smaller one than the full-order runs it was trained on)")
+      ->check(CLI::Range(1e-6, 1.0))
+      ->needs(rom);
 }
 
 std::unique_ptr<Simulation> make_reduced_simulation(const ReducedRunOptions& options, const Exec& exec,
@@ -38,7 +43,12 @@ std::unique_ptr<Simulation> make_reduced_simulation(const ReducedRunOptions& opt
   reduced.seed = options.seed;
   spdlog::info("reduced-order run: {} quadrature, {} projection, {} samples per substep", options.quadrature,
                options.projection, options.samples == 0 ? std::string("all") : std::to_string(options.samples));
-  return reduced_simulation(exec, setup.config, setup.particles, std::move(model.map), std::move(model.xhat), reduced);
+  FullOrderConfig config = setup.config;
+  if (options.cfl > 0.0) {
+    config.cfl = float(options.cfl);
+    spdlog::info("reduced substeps at CFL number {} (the scene's: {})", options.cfl, setup.config.cfl);
+  }
+  return reduced_simulation(exec, config, setup.particles, std::move(model.map), std::move(model.xhat), reduced);
 }
 
 }  // namespace romp::run

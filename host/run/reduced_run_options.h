@@ -20,9 +20,10 @@ struct ReducedRunOptions {
   std::string projection = "velocity";
   Index samples = 0;  // 0: every material point
   std::uint64_t seed = 0;
+  double cfl = 0.0;  // > 0: the reduced substeps' CFL number instead of the scene's time.cfl
 };
 
-// Adds --rom, --quadrature, --projection, --samples and --sample-seed to `run`.
+// Adds --rom, --quadrature, --projection, --samples, --sample-seed and --rom-cfl to `run`.
 void add_reduced_run_options(CLI::App& run, ReducedRunOptions& options);
 
 // The simulation of a reduced-order run: loads the model, encodes the scene's initial state and logs
