@@ -72,8 +72,8 @@ int check_scene(const std::string& path, const romp::scene::ParameterValues& ove
   return 0;
 }
 
-int compare(const std::string& run, const std::string& reference, bool per_frame) {
-  const romp::run::PositionError error = romp::run::compare_snapshots(run, reference);
+int compare(const std::string& run, const std::string& reference, bool per_frame, std::int64_t first_frames = 0) {
+  const romp::run::PositionError error = romp::run::compare_snapshots(run, reference, first_frames);
   if (per_frame) {
     fmt::print("{:>6}  {:>12}  {:>16}  {:>16}\n", "frame", "time (s)", "position error %", "MSE (m^2)");
     for (std::size_t k = 0; k < error.frame_percent.size(); ++k)
@@ -197,6 +197,11 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
   compare_command->add_flag("--frames", per_frame, "Also print the error of every frame");
+  std::int64_t first_frames = 0;
+  compare_command
+      ->add_option("--first-frames", first_frames,
+                   "Compare frames 0 .. N-1 only (e.g. what a run that stopped wrote, RUN.h5.partial)")
+      ->check(CLI::PositiveNumber);
   romp::LearnLawOptions learn_law_options;
   CLI::App* learn_law = romp::add_learn_law_command(app, learn_law_options);
   romp::TrainRomOptions train_rom_options;
@@ -216,7 +221,7 @@ int main(int argc, char** argv) {
       fmt::print("{}", romp::info_report(romp::build_info(), romp::probe_cuda(), romp::nn::torch_info()));
       return 0;
     }
-    if (app.got_subcommand("compare")) return compare(compared_run, reference_run, per_frame);
+    if (app.got_subcommand("compare")) return compare(compared_run, reference_run, per_frame, first_frames);
     if (app.got_subcommand("sweep")) {
       sweep_options.run_arguments = {"--device", device, "--threads", std::to_string(threads), "--log-level", log_level};
       sweep_options.laws = parse_laws(law_assignments);

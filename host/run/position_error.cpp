@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "kernels/core/error.h"
@@ -44,7 +45,7 @@ PositionError PositionErrorAccumulator::result() const {
   return result;
 }
 
-PositionError compare_snapshots(const std::string& run, const std::string& reference) {
+PositionError compare_snapshots(const std::string& run, const std::string& reference, std::int64_t first_frames) {
   const io::SnapshotReader a(run), b(reference);
   const std::string pair = fmt::format("{} against {}", run, reference);
   if (a.particle_count() != b.particle_count())
@@ -54,11 +55,16 @@ PositionError compare_snapshots(const std::string& run, const std::string& refer
     throw Error(fmt::format("{}: the material points' reference positions differ; compare runs of the same scene "
                             "and sampling",
                             pair));
-  if (a.frame_count() != b.frame_count())
-    throw Error(fmt::format("{}: {} frames against {}", pair, a.frame_count(), b.frame_count()));
+  if (first_frames <= 0 && a.frame_count() != b.frame_count())
+    throw Error(fmt::format("{}: {} frames against {} (--first-frames N compares the first N)", pair,
+                            a.frame_count(), b.frame_count()));
+  if (first_frames > std::min(a.frame_count(), b.frame_count()))
+    throw Error(fmt::format("{}: the first {} frames were asked for; the files hold {} and {}", pair, first_frames,
+                            a.frame_count(), b.frame_count()));
+  const std::int64_t frames = first_frames > 0 ? first_frames : a.frame_count();
 
   PositionErrorAccumulator accumulator;
-  for (std::int64_t frame = 0; frame < a.frame_count(); ++frame) {
+  for (std::int64_t frame = 0; frame < frames; ++frame) {
     const double t = a.frame_time(frame), t_reference = b.frame_time(frame);
     if (std::fabs(t - t_reference) > kTimeTolerance * std::fmax(1.0, std::fabs(t_reference)))
       throw Error(fmt::format("{}: frame {} is at t = {} s against t = {} s", pair, frame, t, t_reference));

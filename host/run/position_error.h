@@ -36,6 +36,8 @@ class PositionErrorAccumulator {
 
 // Compares two snapshot files frame by frame. They must hold the same material points (count and
 // reference positions) and the same frame times; throws romp::Error naming both files otherwise.
-PositionError compare_snapshots(const std::string& run, const std::string& reference);
+// `first_frames` > 0 compares frames 0 .. first_frames − 1 only (both files must hold them), e.g. what
+// a run that stopped early wrote (RUN.h5.partial) or the part of a run before it diverged.
+PositionError compare_snapshots(const std::string& run, const std::string& reference, std::int64_t first_frames = 0);
 
 }  // namespace romp::run

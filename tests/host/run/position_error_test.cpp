@@ -80,5 +80,18 @@ TEST(AccumulatedPositionError, RunsOfOtherBodiesOrFrameTimesAreNotCompared) {
   EXPECT_THROW(compare_snapshots(shorter, reference), Error);
 }
 
+// --first-frames compares what both files hold of the first N frames: a run that stopped early against
+// its reference, or the part of a longer run.
+TEST(AccumulatedPositionError, FirstFramesComparesOnlyThose) {
+  const test::ScratchFolder folder;
+  const std::string reference = write_run(folder, "reference.h5", kX, 0.0f, {0.0, 0.1, 0.2});
+  const std::string stopped = write_run(folder, "stopped.h5", kX, 0.5f, {0.0, 0.1});
+  const PositionError error = compare_snapshots(stopped, reference, 2);
+  ASSERT_EQ(error.frame_percent.size(), 2u);
+  EXPECT_NEAR(error.percent, 100.0 * std::sqrt(0.5 / 50.0), 1e-9);  // as the two-frame runs above
+  EXPECT_EQ(compare_snapshots(reference, reference, 1).frame_percent.size(), 1u);
+  EXPECT_THROW(compare_snapshots(stopped, reference, 3), Error);  // the stopped run holds 2
+}
+
 }  // namespace
 }  // namespace romp::run
