@@ -148,6 +148,9 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   ROMP_CHECK(Index(xhat.size()) == latent_,
              fmt::format("x̂ holds {} values, the map's latent size is {}", xhat.size(), latent_));
   ROMP_CHECK(options_.samples >= 0 && options_.boundary_samples >= 0, "sample counts must be >= 0");
+  ROMP_CHECK(options_.cfl >= 0.0 && options_.cfl <= 1.0,
+             fmt::format("the reduced substeps' CFL number must be in (0, 1] (0: the scene's), got {}", options_.cfl));
+  if (options_.cfl > 0.0) config_.cfl = float(options_.cfl);
   ROMP_CHECK(options_.gauss_newton_iterations >= 1 && options_.gauss_newton_tolerance > 0.0,
              "Gauss–Newton needs at least one iteration and a tolerance > 0");
   ROMP_CHECK(options_.points_per_cell >= 1 && options_.points_per_cell <= 8,

@@ -52,6 +52,9 @@ struct ReducedOptions {
   // inversion_tolerance × dx.
   int inversion_iterations = 20;
   float inversion_tolerance = 1e-4f;
+  // > 0: the substeps' CFL number instead of the scene's time.cfl, in (0, 1] (a hyper-reduced run may
+  // need a smaller step than the full-order runs its map was trained on).
+  double cfl = 0.0;
   // Sample material points drawn anew each substep (hyper-reduction); 0 or ≥ the point count: all.
   Index samples = 0;
   // Drawn from every Dirichlet group in addition, so prescribed motions reach the projection (the

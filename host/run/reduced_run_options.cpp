@@ -43,12 +43,9 @@ std::unique_ptr<Simulation> make_reduced_simulation(const ReducedRunOptions& opt
   reduced.seed = options.seed;
   spdlog::info("reduced-order run: {} quadrature, {} projection, {} samples per substep", options.quadrature,
                options.projection, options.samples == 0 ? std::string("all") : std::to_string(options.samples));
-  FullOrderConfig config = setup.config;
-  if (options.cfl > 0.0) {
-    config.cfl = float(options.cfl);
-    spdlog::info("reduced substeps at CFL number {} (the scene's: {})", options.cfl, setup.config.cfl);
-  }
-  return reduced_simulation(exec, config, setup.particles, std::move(model.map), std::move(model.xhat), reduced);
+  reduced.cfl = options.cfl;
+  if (options.cfl > 0.0) spdlog::info("reduced substeps at CFL number {} (the scene's: {})", options.cfl, setup.config.cfl);
+  return reduced_simulation(exec, setup.config, setup.particles, std::move(model.map), std::move(model.xhat), reduced);
 }
 
 }  // namespace romp::run
