@@ -356,7 +356,7 @@ mpm::ParticleView ReducedSim::lagrangian_quadrature(Index m) {
 }
 
 mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
-  // Alg. 4, step 3: the cells whose points reach a sample's grid nodes. A point in cell c has its
+  // Alg. 4, step 3: the cells whose points may reach a sample's grid nodes. A point in cell c has its
   // stencil's base node at c − 1 or c, so it reaches nodes c − 1 .. c + 2; the nodes of a sample with
   // base node B are B .. B + 2, reached from cells B − 2 .. B + 3.
   const std::vector<float> X = samples_.X.to_host(exec_.stream), x = samples_.x.to_host(exec_.stream),
@@ -378,10 +378,14 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
           if (cell_sample.emplace(key, s).second) cells.emplace_back(key, s);
         }
   }
-  // ℓ³ points per cell; each starts its inversion from the linearisation of g at its cell's sample.
-  const Index count = Index(cells.size()) * l * l * l;
-  std::vector<float> points(static_cast<std::size_t>(3 * count)), guesses(static_cast<std::size_t>(3 * count));
-  Index q = 0;
+  // ℓ³ points per cell, of which only those whose stencils reach a sample's grid nodes (the Lagrangian
+  // neighbours' rule, stencil_neighbours.h; NeighbourSearch::Never keeps them all): the others add only
+  // to nodes no sample reads, about 40 % of the points at ℓ = 2. Each starts its inversion from the
+  // linearisation of g at its cell's sample.
+  const float inverse_dx = 1.0f / dx;
+  const bool prune = options_.neighbour_search != NeighbourSearch::Never;
+  const std::vector<std::uint64_t> near = prune ? rom::bases_near_samples(x, m, inverse_dx) : std::vector<std::uint64_t>();
+  std::vector<Vec3<float>> kept, guessed;
   for (const auto& [key, s] : cells) {
     const int c[3] = {int(key >> 42), int((key >> 21) & 0x1fffff), int(key & 0x1fffff)};
     Mat3<double> F_s;
@@ -391,22 +395,37 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
     const double det = determinant(F_s);
     for (int i = 0; i < l; ++i)
       for (int j = 0; j < l; ++j)
-        for (int k = 0; k < l; ++k, ++q) {
+        for (int k = 0; k < l; ++k) {
           const int sub[3] = {i, j, k};
           Vec3<double> offset;
-          for (int a = 0; a < 3; ++a) offset[a] = (c[a] + (sub[a] + 0.5) / l) * dx - x_s[a];
+          Vec3<float> point;
+          for (int a = 0; a < 3; ++a) {
+            const double position = (c[a] + (sub[a] + 0.5) / l) * dx;
+            point[a] = float(position);
+            offset[a] = position - x_s[a];
+          }
+          if (prune) {
+            const mpm::QuadraticStencil<float> stencil(point, inverse_dx);
+            const int* b = stencil.base;
+            if (!std::binary_search(near.begin(), near.end(), rom::node_key(b[0], b[1], b[2]))) continue;
+          }
           // X_s + F_s⁻¹ (x_q − x_s), with F⁻¹ from the rows' cross products (identity if F_s is singular).
           const Vec3<double> r0 = F_s.row(0), r1 = F_s.row(1), r2 = F_s.row(2);
           const Vec3<double> step = det > 0.0 ? (offset[0] * cross(r1, r2) + offset[1] * cross(r2, r0) +
                                                  offset[2] * cross(r0, r1)) *
                                                     (1.0 / det)
                                               : offset;
-          for (int a = 0; a < 3; ++a) {
-            points[std::size_t(a * count + q)] = float((c[a] + (sub[a] + 0.5) / l) * dx);
-            guesses[std::size_t(a * count + q)] = float(X_s[a] + step[a]);
-          }
+          kept.push_back(point);
+          guessed.push_back(Vec3<float>(float(X_s[0] + step[0]), float(X_s[1] + step[1]), float(X_s[2] + step[2])));
         }
   }
+  const Index count = Index(kept.size());
+  std::vector<float> points(static_cast<std::size_t>(3 * count)), guesses(static_cast<std::size_t>(3 * count));
+  for (Index q = 0; q < count; ++q)
+    for (int a = 0; a < 3; ++a) {
+      points[std::size_t(a * count + q)] = kept[std::size_t(q)][a];
+      guesses[std::size_t(a * count + q)] = guessed[std::size_t(q)][a];
+    }
   if (quadrature_.count != count) {
     quadrature_.allocate(exec_.backend, count);
     std::vector<std::int32_t> none(static_cast<std::size_t>(count), mpm::kNoDirichletGroup), ids(none.size());
@@ -436,7 +455,25 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
     quadrature_unconverged_ += status[i] == rom::kQuadratureUnconverged;
     last_quadrature_mass_ += mass[i];
   }
-  return quadrature_.view();
+  // Points outside the body (or unconverged) carry no mass; P2G would evaluate a stress and activate
+  // grid blocks for each of them, so the used points are gathered into a set of their own.
+  std::vector<std::int32_t> used;
+  for (Index i = 0; i < count; ++i)
+    if (status[i] == rom::kQuadratureUsed) used.push_back(std::int32_t(i));
+  if (Index(used.size()) == count) return quadrature_.view();
+  const Index u = Index(used.size());
+  used_quadrature_.resize(exec_.backend, u);
+  used_index_ = DeviceBuffer<std::int32_t>::from_host(exec_.backend, used, exec_.stream);
+  gather(exec_, quadrature_.x, count, 3, used_index_, used_quadrature_.x);
+  gather(exec_, quadrature_.X, count, 3, used_index_, used_quadrature_.X);
+  gather(exec_, quadrature_.v, count, 3, used_index_, used_quadrature_.v);
+  gather(exec_, quadrature_.F, count, 9, used_index_, used_quadrature_.F);
+  gather(exec_, quadrature_.mass, count, 1, used_index_, used_quadrature_.mass);
+  gather(exec_, quadrature_.volume0, count, 1, used_index_, used_quadrature_.volume0);
+  gather(exec_, quadrature_.material, count, 1, used_index_, used_quadrature_.material);
+  gather(exec_, quadrature_.group, count, 1, used_index_, used_quadrature_.group);
+  gather(exec_, quadrature_.id, count, 1, used_index_, used_quadrature_.id);
+  return used_quadrature_.view();
 }
 
 void ReducedSim::substep(float dt) {

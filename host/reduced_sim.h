@@ -33,9 +33,11 @@ namespace romp {
 
 enum class RomQuadrature { Lagrangian, Eulerian };
 
-// Whether the Lagrangian quadrature searches the samples' neighbours or takes every material point (the
-// samples' P2G is the same either way). Auto searches when the neighbours are bound to be under half
-// the points: samples × 5³ cells × points per cell < P / 2.
+// Whether the quadrature keeps only the samples' neighbours, the points whose stencils reach a sample's
+// grid nodes (the samples' P2G is the same either way). Lagrangian: the neighbours are searched among
+// the material points, or every material point is taken; Auto searches when the neighbours are bound to
+// be under half the points: samples × 5³ cells × points per cell < P / 2. Eulerian: of the ℓ³ points of
+// each cell near a sample, only the neighbours are inverted unless Never.
 enum class NeighbourSearch { Auto, Always, Never };
 
 enum class RomProjection {
@@ -46,7 +48,7 @@ enum class RomProjection {
 struct ReducedOptions {
   RomQuadrature quadrature = RomQuadrature::Lagrangian;
   RomProjection projection = RomProjection::Velocity;
-  NeighbourSearch neighbour_search = NeighbourSearch::Auto;  // Lagrangian quadrature
+  NeighbourSearch neighbour_search = NeighbourSearch::Auto;
   int points_per_cell = 2;  // ℓ of the Eulerian quadrature, per axis
   // Newton inversion of g for Eulerian points: at most this many iterations, converged within
   // inversion_tolerance × dx.
@@ -102,9 +104,10 @@ class ReducedSim {
   std::int64_t quadrature_points_unconverged() const { return quadrature_unconverged_; }
   // The quadrature mass of the last substep (kg): with every point sampled, the body's mass.
   double last_quadrature_mass() const { return last_quadrature_mass_; }
-  // Lagrangian quadrature: whether it searches the samples' neighbours, and the quadrature points of
-  // the last substep (the samples and their neighbours, or every material point).
+  // Lagrangian quadrature: whether it searches the samples' neighbours.
   bool searches_neighbours() const { return search_neighbours_; }
+  // The quadrature points of the last substep: Lagrangian, the samples and their neighbours or every
+  // material point; Eulerian, the points inverted (inside the body or not; P2G reads those inside).
   Index last_quadrature_count() const { return quadrature_.count; }
   // Lagrangian quadrature points summed over the substeps so far.
   std::int64_t lagrangian_quadrature_points() const { return lagrangian_points_; }
@@ -158,6 +161,9 @@ class ReducedSim {
     void resize(Backend backend, Index n);
     mpm::ParticleView view();
   } quadrature_;
+  // Eulerian: the quadrature points inside the body, gathered for P2G (their indices in quadrature_).
+  Quadrature used_quadrature_;
+  DeviceBuffer<std::int32_t> used_index_;
   // The reference state (X, mass, volume, material, Dirichlet group, id) of the material points `index`.
   void gather_reference(const DeviceBuffer<std::int32_t>& index, Quadrature& points);
   DeviceBuffer<float> dg_dxhat_;  // Lagrangian: ∂g/∂x̂ at the quadrature points
