@@ -22,6 +22,7 @@ struct Options {
   std::string scene;
   std::map<std::string, double> parameters;
   std::string rom_model;
+  std::vector<int> rom_samples{10, 50, 0};  // sample counts of the reduced cases (0: every point)
 };
 
 // One timed case: `items` units of work per repeat (SVDs, particle-substeps, bytes, ...).

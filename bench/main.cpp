@@ -30,6 +30,8 @@ const std::vector<Suite> kSuites = {
      romp::bench::run_quadrature_suite},
     {"rom", "ROM error against wall time per simulated second, every quadrature x projection (--scene, --rom-model)",
      romp::bench::run_rom_suite},
+    {"rom-cost", "one substep, full order against every reduced setup, at a scene's resolution with a random map (--scene)",
+     romp::bench::run_rom_cost_suite},
     {"stability", "robust-elasticity matrix: each case ends finite with bounded energy or stops with a message",
      romp::bench::run_stability_suite},
 };
@@ -69,10 +71,13 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_directory, "Folder for the CSV and JSON records");
   app.add_option("--name", stem, "File stem of the records (default: bench-<UTC time>)");
   std::vector<std::string> sets;
-  app.add_option("--scene", options.scene, "rom suite: the scene file")->check(CLI::ExistingFile);
-  app.add_option("--set", sets, "rom suite: override a declared scene parameter; stability suite: min_youngs, max_youngs, implicit, enriched, substeps, seconds; name=value (repeatable)");
+  app.add_option("--scene", options.scene, "rom and rom-cost suites: the scene file")->check(CLI::ExistingFile);
+  app.add_option("--set", sets, "rom and rom-cost suites: override a declared scene parameter; stability suite: min_youngs, max_youngs, implicit, enriched, substeps, seconds; name=value (repeatable)");
   app.add_option("--rom-model", options.rom_model, "rom suite: a model trained on the scene's sweep (romp train-rom)")
       ->check(CLI::ExistingFile);
+  app.add_option("--rom-samples", options.rom_samples, "rom and rom-cost suites: sample counts per substep of the reduced cases (0: every point)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_flag_callback("--list", [] {
     for (const Suite& suite : kSuites) fmt::print("{:<10} {}\n", suite.name, suite.summary);
     throw CLI::Success();

@@ -3,17 +3,15 @@
 // 32k and 262k points. The map has the paper's size (r = 6, 5 hidden layers of 30) with seeded random
 // weights, so no training is needed; its displacements are a millimetre, so the body barely deforms.
 #include <fmt/format.h>
-#include <torch/torch.h>
 
 #include <cmath>
 #include <string>
 
+#include "bench/suites/random_map.h"
 #include "bench/suites/suites.h"
 #include "host/geometry/sampling.h"
 #include "host/material_library.h"
 #include "host/reduced_sim.h"
-#include "nn/rom/deformation_map.h"
-#include "nn/rom/fused_map.h"
 
 namespace romp::bench {
 namespace {
@@ -21,21 +19,11 @@ namespace {
 constexpr int kParticlesPerCellPerAxis = 2;
 constexpr Index kSamples = 50;
 
-// The paper's map size with LibTorch's seeded initialisation over the box [low, high]³.
-rom::DeformationMapWeights random_map(float low, float high) {
-  using nn::rom::DeformationMap;
-  torch::manual_seed(0);
-  const auto ones = torch::ones({3});
-  DeformationMap map(nn::rom::MapArchitecture{6, 5, 30},
-                     nn::rom::MapNormalisation{low * ones, high * ones, torch::zeros({3}), 1e-3f * ones});
-  return nn::rom::fused_weights(*map);
-}
-
 }  // namespace
 
 void run_quadrature_suite(Context& context) {
   const float low = 0.25f, high = 0.75f;
-  const rom::DeformationMapWeights map = random_map(low, high);
+  const rom::DeformationMapWeights map = random_map(Vec3<float>::constant(low), Vec3<float>::constant(high));
   for (const Index nominal : {Index(32768), Index(262144)}) {
     const Index wanted = context.scaled(nominal, 4096);
     const float spacing = std::cbrt((high - low) * (high - low) * (high - low) / float(wanted));

@@ -1,7 +1,7 @@
 // rom suite (ROM paper, Fig. 20 and Tables 3-6): for a scene and a model trained on its sweep, the
-// full-order run and every quadrature × projection pair at 10, 50 and all sample points, on the same
-// device: wall seconds per simulated second, speedup over the full-order run, and the accumulated
-// position error against it. Needs --scene and --rom-model (and --set for the scene's parameters).
+// full-order run and every quadrature × projection pair at 10, 50 and all sample points (or
+// --rom-samples), on the same device: wall seconds per simulated second, speedup over the full-order
+// run, and the accumulated position error against it. Needs --scene and --rom-model (and --set for the scene's parameters).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -73,7 +73,7 @@ void run_rom_suite(Context& context) {
     std::vector<ReducedCase> cases;
     for (const RomQuadrature quadrature : {RomQuadrature::Lagrangian, RomQuadrature::Eulerian})
       for (const RomProjection projection : {RomProjection::PositionVelocity, RomProjection::Velocity})
-        for (const Index samples : {Index(10), Index(50), Index(0)}) cases.push_back({quadrature, projection, samples});
+        for (const int samples : options.rom_samples) cases.push_back({quadrature, projection, Index(samples)});
     for (const ReducedCase& c : cases) {
       ReducedOptions reduced;
       reduced.quadrature = c.quadrature;

@@ -12,6 +12,8 @@ void run_mlp_suite(Context& context);
 void run_quadrature_suite(Context& context);
 // Error against run time of every ROM configuration on a scene (needs --scene and --rom-model).
 void run_rom_suite(Context& context);
+// One substep's cost, full order against reduced order, at a scene's own resolution (random map).
+void run_rom_cost_suite(Context& context);
 // The robust-elasticity matrix: models × E × ν × scenarios × integrators × plain/enriched under a budget.
 void run_stability_suite(Context& context);
 void run_step_suite(Context& context);

@@ -1,0 +1,102 @@
+// rom-cost suite (ROM paper, Sec. 5.4 and Fig. 20): what one substep costs at a scene's own resolution,
+// full order against reduced order, on the same device. The map has the paper's size (r = 6, 5 hidden
+// layers of 30) with seeded random weights, so no sweep or training is needed and it runs at sizes whose
+// full-order sweep a machine cannot afford (the tower's 3 million points: --scene scenes/rom/tower.toml
+// --set dx=0.0048). Its displacements are a millimetre: the body barely deforms, so a trained map's
+// Eulerian inversion may take more Newton iterations than this one's. Wall seconds per simulated second
+// are a substep's median time over the run's stable step at t = 0.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "bench/suites/random_map.h"
+#include "bench/suites/suites.h"
+#include "host/full_order_sim.h"
+#include "host/reduced_sim.h"
+#include "host/scene/scene_parser.h"
+#include "host/scene/scene_setup.h"
+
+namespace romp::bench {
+namespace {
+
+// The reduced setups timed: the paper's real-time pair (Eulerian, velocity-only), its position-velocity
+// variant, and Lagrangian velocity-only, which decodes every point to find the samples' neighbours.
+struct CostCase {
+  RomQuadrature quadrature;
+  RomProjection projection;
+  const char* name;
+};
+constexpr CostCase kCases[] = {
+    {RomQuadrature::Eulerian, RomProjection::Velocity, "eulerian_velocity"},
+    {RomQuadrature::Eulerian, RomProjection::PositionVelocity, "eulerian_position"},
+    {RomQuadrature::Lagrangian, RomProjection::Velocity, "lagrangian_velocity"},
+};
+
+// The bounding box of the scene's material points.
+std::pair<Vec3<float>, Vec3<float>> bounds(const mpm::ParticleInit& particles) {
+  const Index n = particles.count();
+  Vec3<float> low = Vec3<float>::constant(1e30f), high = Vec3<float>::constant(-1e30f);
+  for (int a = 0; a < 3; ++a)
+    for (Index p = 0; p < n; ++p) {
+      low[a] = std::min(low[a], particles.x[std::size_t(a * n + p)]);
+      high[a] = std::max(high[a], particles.x[std::size_t(a * n + p)]);
+    }
+  return {low, high};
+}
+
+}  // namespace
+
+void run_rom_cost_suite(Context& context) {
+  const Options& options = context.options();
+  if (options.scene.empty()) {
+    fmt::print("rom-cost skipped: needs --scene SCENE.toml\n");
+    return;
+  }
+  const scene::Scene scene = scene::load_scene(options.scene, options.parameters);
+  const scene::SceneSetup setup = scene::build_scene(scene);
+  const Index n = setup.particles.count();
+  const auto [low, high] = bounds(setup.particles);
+  const rom::DeformationMapWeights map = random_map(low, high);
+  fmt::print("rom-cost {}: {} material points, dx = {:.4g} m\n", options.scene, n, setup.config.dx);
+
+  for (const Exec& exec : context.execs()) {
+    FullOrderSim full(exec, setup.config, setup.particles);
+    const float full_dt = full.stable_dt();
+    const Measurement& f = context.time(
+        "rom-cost", "full_order", exec, n, "particle-substep", [&] { full.substep(full_dt); }, 0.0,
+        fmt::format("{}: {} particles, dt = {:.3g} s", options.scene, n, full_dt));
+    const std::string place = fmt::format("{}{}", f.backend, f.threads);
+    const double full_per_second = f.median_seconds() / full_dt;
+    context.record(fmt::format("rom-cost.full_order.{}.wall_per_simulated_second", place), full_per_second);
+
+    for (const CostCase& c : kCases)
+      for (const int samples : options.rom_samples) {
+        ReducedOptions reduced;
+        reduced.quadrature = c.quadrature;
+        reduced.projection = c.projection;
+        reduced.samples = Index(samples);
+        ReducedSim sim(exec, setup.config, setup.particles, map, std::vector<float>(6, 0.0f), reduced);
+        const float dt = sim.stable_dt();
+        const std::string name =
+            fmt::format("{}_{}", c.name, samples == 0 ? std::string("all") : std::to_string(samples));
+        const Measurement& m = context.time("rom-cost", name, exec, 1, "substep", [&] { sim.substep(dt); }, 0.0,
+                                            fmt::format("{} points, dt = {:.3g} s", n, dt));
+        const std::string key = fmt::format("rom-cost.{}.{}", name, place);
+        const double per_second = m.median_seconds() / dt;
+        context.record(key + ".wall_per_simulated_second", per_second);
+        context.record(key + ".speedup", full_per_second / per_second);
+        const double quadrature_points = c.quadrature == RomQuadrature::Eulerian
+                                             ? double(sim.last_quadrature_count())
+                                             : double(sim.lagrangian_quadrature_points()) / double(sim.steps());
+        context.record(key + ".quadrature_points_per_substep", quadrature_points);
+        std::string split;
+        for (const auto& [stage, seconds] : sim.stage_seconds())
+          split += fmt::format(" {} {:.3g}", stage, 1e3 * seconds / double(sim.steps()));
+        fmt::print("         {}: {:.0f} quadrature points; ms per substep by stage:{}\n", name, quadrature_points, split);
+      }
+  }
+}
+
+}  // namespace romp::bench
