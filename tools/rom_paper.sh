@@ -5,6 +5,7 @@
 # table: the accumulated position error, mean over the test members (worst in parentheses).
 #
 #   tools/rom_paper.sh EXPERIMENT OUTPUT_DIR [--epochs N] [--schemes LIST] [--samples LIST] [--jobs N] [--rom-cfl X]
+#                      [--dx X]
 #                      [-- romp options]
 #
 # EXPERIMENT
@@ -21,12 +22,17 @@
 #                     other 24 azimuths), 50 and all sample points
 #   continual-poking  Table 6: the poke map runs ten pokes in a row (30 s, never seen in training),
 #                     against a full-order run of the same sequence; 50 and all sample points
+#   tower             Sec. 5.4, Fig. 20: the tower (r = 6) at cell size --dx (default the scene's
+#                     0.0192 m, about 45 thousand points; the paper's 0.0048 m is 3 million), 10 and 50
+#                     sample points; then the wall seconds per simulated second of the test members'
+#                     full-order runs (from the sweep) and reduced runs, and the speed-up
 # --epochs N: training length of each map (default 80, short of convergence on a CPU);
 # --schemes: comma-separated among lagrangian-position, lagrangian-velocity, eulerian-position,
 # eulerian-velocity (default: all four; quadrature, then projection); --samples: comma-separated sample
 # counts, 0 for all points, in place of the experiment's rows; --jobs N: reduced runs of one table cell
-# at once (default 1; runs pass `-- --threads 1` to share the cores); --rom-cfl X: the reduced runs'
+# at once (default 1; with N > 1 each on one thread unless the options set --threads); --rom-cfl X: the reduced runs'
 # substeps at CFL number X instead of the scene's (romp run --rom-cfl; their files are tagged -cflX);
+# --dx X: the tower's cell size in m (a divisor of 0.192, e.g. 0.024, 0.0192, 0.0096, 0.0048);
 # options after -- go to every romp command (e.g. -- --device cpu --threads 1).
 #
 # Steps whose output exists are skipped and an interrupted training resumes from its checkpoint, so
@@ -35,12 +41,12 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 romp="${ROMP:-$root/build/romp}"
-usage() { sed -n '7,34p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '7,40p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 [ $# -ge 2 ] || usage
 experiment="$1" out="$2"
 shift 2
 epochs=80 schemes="lagrangian-position,lagrangian-velocity,eulerian-position,eulerian-velocity" sample_rows="" jobs=1
-rom_cfl=""
+rom_cfl="" tower_dx=0.0192
 while [ $# -gt 0 ]; do
   case "$1" in
     --epochs) epochs="$2"; shift 2 ;;
@@ -48,15 +54,20 @@ while [ $# -gt 0 ]; do
     --samples) sample_rows="$2"; shift 2 ;;
     --jobs) jobs="$2"; shift 2 ;;
     --rom-cfl) rom_cfl="$2"; shift 2 ;;
+    --dx) tower_dx="$2"; shift 2 ;;
     --) shift; break ;;
     *) usage ;;
   esac
 done
 options=("$@")
+# Processes that share the cores (the sweep's two members, --jobs > 1) run on one thread each unless the
+# options set --threads: a one-thread scatter needs no atomics.
+shared_cores=(--threads 1)
+for option in "${options[@]}"; do [ "$option" != --threads ] || shared_cores=(); done
 IFS=, read -r -a scheme_list <<< "$schemes"
 
 # sweep NAME SCENE SED: the sweep of scenes/rom/SCENE with the paper's resolution (SED rewrites the
-# scene's dx line) in OUTPUT_DIR/NAME/sweep, unless there.
+# scene's dx line) in OUTPUT_DIR/NAME/sweep, unless there; two members at a time.
 sweep() {
   local folder="$out/$1"
   mkdir -p "$folder"
@@ -64,7 +75,7 @@ sweep() {
   [ -f "$scene" ] || sed "$3" "$root/scenes/rom/$2" > "$scene"
   if [ ! -f "$folder/sweep/manifest.json" ]; then
     echo "sweep: $folder/sweep" >&2
-    "$romp" "${options[@]}" sweep "$scene" -o "$folder/sweep" -j 2 > "$folder/sweep.log" 2>&1
+    "$romp" "${shared_cores[@]}" "${options[@]}" sweep "$scene" -o "$folder/sweep" -j 2 > "$folder/sweep.log" 2>&1
   fi
 }
 
@@ -118,7 +129,9 @@ rom_run() {
   mkdir -p "$(dirname "$run")"
   [ -f "$run" ] && [ ! -f "$run.failed" ] && return 0
   rm -f "$run.failed"
-  "$romp" "${options[@]}" run --no-progress "$scene" --rom "$model" --quadrature "$quadrature" \
+  local threads=()
+  [ "$jobs" -le 1 ] || threads=("${shared_cores[@]}")
+  "$romp" "${threads[@]}" "${options[@]}" run --no-progress "$scene" --rom "$model" --quadrature "$quadrature" \
     --projection "$projection" --samples "$samples" ${rom_cfl:+--rom-cfl "$rom_cfl"} -o "$run" \
     > "${run%.h5}.log" 2>&1 < /dev/null || touch "$run.failed"
 }
@@ -221,6 +234,48 @@ superres_table() {
   echo "| tracer-particle baseline | - | $(summary ${cells[baseline]}) |"
 }
 
+# wall_per_second LOG: wall seconds per simulated second of the run that wrote LOG (romp run's summary).
+wall_per_second() {
+  sed -n 's/.*substeps (\([0-9.e+-]*\) s simulated) in \([0-9.]*\) s on.*/\2 \1/p' "$1" | awk '{ printf "%.4g\n", $1 / $2 }'
+}
+
+# median VALUES...: their median, or "-" if there are none.
+median() {
+  [ $# -gt 0 ] || { echo -; return; }
+  printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { printf "%.3g\n", NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'
+}
+
+# speed_table MODEL SWEEP MEMBERS COUNTS...: over the test members, the median wall seconds per simulated
+# second of the full-order runs (the sweep's logs) and of each scheme's reduced runs, and the speed-up.
+# Like with like: the sweep runs two members at a time, one thread each, and so do the reduced runs
+# with --jobs 2.
+speed_table() {
+  local model="$1" sweep_folder="$2" members="$3" index scene reference log full=() values
+  shift 3
+  while read -r index scene reference _; do
+    log="$sweep_folder/logs/$(basename "$reference" .h5).log"
+    [ -f "$log" ] && full+=("$(wall_per_second "$log")")
+  done < "$members"
+  local full_median
+  full_median="$(median "${full[@]}")"
+  echo "| run | sample points | wall s per simulated s (median over test members) | speed-up over full order |"
+  echo "|---|---|---|---|"
+  echo "| full order | - | $full_median | 1 |"
+  for scheme in "${scheme_list[@]}"; do
+    for samples in "$@"; do
+      values=()
+      while read -r index scene reference _; do
+        log="$(rom_run_path "$model" "$scheme" "$samples" "$index")"
+        log="${log%.h5}.log"
+        [ -f "$log" ] && [ ! -f "${log%.log}.h5.failed" ] && values+=("$(wall_per_second "$log")")
+      done < "$members"
+      local rom_median
+      rom_median="$(median "${values[@]}")"
+      echo "| $scheme | $samples | $rom_median | $(awk -v f="$full_median" -v r="$rom_median" 'BEGIN { if (r + 0 > 0 && f + 0 > 0) printf "%.3g", f / r; else print "-" }') |"
+    done
+  done
+}
+
 case "$experiment" in
   gravity-samples)
     sweep gravity gravity_cylinder.toml 's/^dx = 0.002 .*/dx = 0.004/'
@@ -264,6 +319,16 @@ case "$experiment" in
     fi
     echo "continual $root/scenes/rom/continual_poking.toml $reference -" > "$out/poke/continual/members.txt"
     table "$out/poke/mlp_r6.h5" "$out/poke/continual/members.txt" map 50 0
+    ;;
+  tower)
+    folder="$out/tower-dx$tower_dx"
+    sweep "tower-dx$tower_dx" tower.toml "s/^dx = 0.0192 .*/dx = $tower_dx/"
+    train "$folder/mlp_r6.h5" "$folder/sweep" --latent 6
+    members="$(members_file "$folder/sweep")"
+    table "$folder/mlp_r6.h5" "$members" map 10 50
+    counts=(10 50)
+    [ -z "$sample_rows" ] || IFS=, read -r -a counts <<< "$sample_rows"
+    speed_table "$folder/mlp_r6.h5" "$folder/sweep" "$members" "${counts[@]}"
     ;;
   *) usage ;;
 esac
