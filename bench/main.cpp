@@ -76,6 +76,7 @@ int main(int argc, char** argv) {
   app.add_option("--rom-model", options.rom_model, "rom suite: a model trained on the scene's sweep (romp train-rom)")
       ->check(CLI::ExistingFile);
   app.add_option("--rom-samples", options.rom_samples, "rom and rom-cost suites: sample counts per substep of the reduced cases (0: every point)")
+      ->delimiter(',')
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_flag_callback("--list", [] {

@@ -252,26 +252,30 @@ median() {
 speed_table() {
   local model="$1" sweep_folder="$2" members="$3" index scene reference log full=() values
   shift 3
+  local count value
+  count="$(wc -l < "$members")"
   while read -r index scene reference _; do
     log="$sweep_folder/logs/$(basename "$reference" .h5).log"
-    [ -f "$log" ] && full+=("$(wall_per_second "$log")")
+    value="$([ -f "$log" ] && wall_per_second "$log")" || true
+    [ -z "$value" ] || full+=("$value")
   done < "$members"
   local full_median
   full_median="$(median "${full[@]}")"
-  echo "| run | sample points | wall s per simulated s (median over test members) | speed-up over full order |"
-  echo "|---|---|---|---|"
-  echo "| full order | - | $full_median | 1 |"
+  echo "| run | sample points | wall s per simulated s (median over test members) | members timed | speed-up over full order |"
+  echo "|---|---|---|---|---|"
+  echo "| full order | - | $full_median | ${#full[@]} of $count | 1 |"
   for scheme in "${scheme_list[@]}"; do
     for samples in "$@"; do
       values=()
       while read -r index scene reference _; do
         log="$(rom_run_path "$model" "$scheme" "$samples" "$index")"
-        log="${log%.h5}.log"
-        [ -f "$log" ] && [ ! -f "${log%.log}.h5.failed" ] && values+=("$(wall_per_second "$log")")
+        # A run that stopped (RUN.failed) or did not finish has no summary line.
+        value="$([ -f "${log%.h5}.log" ] && [ ! -f "$log.failed" ] && wall_per_second "${log%.h5}.log")" || true
+        [ -z "$value" ] || values+=("$value")
       done < "$members"
       local rom_median
       rom_median="$(median "${values[@]}")"
-      echo "| $scheme | $samples | $rom_median | $(awk -v f="$full_median" -v r="$rom_median" 'BEGIN { if (r + 0 > 0 && f + 0 > 0) printf "%.3g", f / r; else print "-" }') |"
+      echo "| $scheme | $samples | $rom_median | ${#values[@]} of $count | $(awk -v f="$full_median" -v r="$rom_median" 'BEGIN { if (r + 0 > 0 && f + 0 > 0) printf "%.3g", f / r; else print "-" }') |"
     done
   done
 }
