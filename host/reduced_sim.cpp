@@ -433,6 +433,7 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
     quadrature_.group = DeviceBuffer<std::int32_t>::from_host(exec_.backend, none);
     quadrature_.id = DeviceBuffer<std::int32_t>::from_host(exec_.backend, ids);
   }
+  if (newton_steps_.size() < count) newton_steps_ = DeviceBuffer<std::int32_t>(exec_.backend, count);
   quadrature_.x.copy_from_host(Span<const float>(points.data(), Index(points.size())), exec_.stream);
   const DeviceBuffer<float> guess = DeviceBuffer<float>::from_host(exec_.backend, guesses, exec_.stream);
   rom::InversionOptions inversion;
@@ -445,14 +446,17 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
                            {Vec3Planes<float>(quadrature_.X.data(), count),
                             Vec3Planes<float>(quadrature_.v.data(), count),
                             Mat3Planes<float>(quadrature_.F.data(), count), quadrature_.mass.span(),
-                            quadrature_.volume0.span(), quadrature_.material.span(), quadrature_.status.span()});
+                            quadrature_.volume0.span(), quadrature_.material.span(), quadrature_.status.span(),
+                            newton_steps_.span()});
   const std::vector<std::int32_t> status = quadrature_.status.to_host(exec_.stream);
+  const std::vector<std::int32_t> steps = newton_steps_.to_host(exec_.stream);
   const std::vector<float> mass = quadrature_.mass.to_host(exec_.stream);
   last_quadrature_mass_ = 0.0;
   for (Index i = 0; i < count; ++i) {
     quadrature_used_ += status[i] == rom::kQuadratureUsed;
     quadrature_outside_ += status[i] == rom::kQuadratureOutside;
     quadrature_unconverged_ += status[i] == rom::kQuadratureUnconverged;
+    newton_steps_total_ += steps[i];
     last_quadrature_mass_ += mass[i];
   }
   // Points outside the body (or unconverged) carry no mass; P2G would evaluate a stress and activate

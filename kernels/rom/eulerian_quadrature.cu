@@ -35,12 +35,12 @@ struct EulerianPoint {
     return true;
   }
 
-  ROMP_HD bool invert(const Vec3<float>& target, Vec3<float>& X) const {
+  ROMP_HD bool invert(const Vec3<float>& target, Vec3<float>& X, int& steps) const {
     Vec3<float> g;
     Mat3<float> F;
     evaluate_map_point(map, xhat, X, g, &F, static_cast<float*>(nullptr), 0);
     float residual = norm(g - target);
-    for (int iteration = 0; iteration < options.iterations; ++iteration) {
+    for (int iteration = 0; iteration < options.iterations; ++iteration, ++steps) {
       if (residual <= options.tolerance) return true;
       Vec3<float> delta;
       if (!solve(F, g - target, delta)) return false;
@@ -69,10 +69,10 @@ struct EulerianPoint {
     const Vec3<float> target = x.load(i);
     Vec3<float> X = X_guess.load(i);
     std::int32_t status = kQuadratureUnconverged;
-    int material = -1;
+    int material = -1, steps = 0;
     if (!occupancy.near(X, options.outside_margin)) {
       status = kQuadratureOutside;
-    } else if (invert(target, X)) {
+    } else if (invert(target, X, steps)) {
       material = occupancy.material_at(X);
       status = material >= 0 ? kQuadratureUsed : kQuadratureOutside;
     }
@@ -100,6 +100,7 @@ struct EulerianPoint {
     out.volume0[i] = volume0;
     out.material[i] = status == kQuadratureUsed ? material : 0;
     out.status[i] = status;
+    out.iterations[i] = steps;
   }
 };
 

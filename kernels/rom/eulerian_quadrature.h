@@ -71,6 +71,7 @@ struct EulerianPointsOut {
   Mat3Planes<float> F;
   Span<float> mass, volume0;  // ρ₀ V / J and V / J; 0 for dropped points
   Span<std::int32_t> material, status;
+  Span<std::int32_t> iterations;  // Newton steps taken (0 for a guess already converged or not inverted)
 };
 
 // For n points at x (current configuration) with first guesses X_guess: inverts g, looks the result up
