@@ -10,6 +10,7 @@
 #include <unordered_set>
 
 #include "host/full_order_sim.h"
+#include "host/geometry/bounds.h"
 #include "host/stage_clock.h"
 #include "kernels/core/for_each.h"
 #include "kernels/core/gather_planes.h"
@@ -102,6 +103,21 @@ void ReducedSim::Quadrature::allocate(Backend backend, Index n) {
 void ReducedSim::Quadrature::resize(Backend backend, Index n) {
   if (n > capacity) allocate(backend, n + n / 4);
   count = n;
+}
+
+void ReducedSim::Quadrature::gather_from(const Exec& exec, const Quadrature& source,
+                                         const DeviceBuffer<std::int32_t>& index) {
+  const Index n = source.count;
+  resize(exec.backend, index.size());
+  gather(exec, source.x, n, 3, index, x);
+  gather(exec, source.X, n, 3, index, X);
+  gather(exec, source.v, n, 3, index, v);
+  gather(exec, source.F, n, 9, index, F);
+  gather(exec, source.mass, n, 1, index, mass);
+  gather(exec, source.volume0, n, 1, index, volume0);
+  gather(exec, source.material, n, 1, index, material);
+  gather(exec, source.group, n, 1, index, group);
+  gather(exec, source.id, n, 1, index, id);
 }
 
 mpm::ParticleView ReducedSim::Quadrature::view() {
@@ -206,12 +222,9 @@ void ReducedSim::build_occupancy(const mpm::ParticleInit& reference) {
   const Index n = reference.count();
   // Cells as fine as the finest sampling: h = cbrt(the smallest particle volume).
   const float h = std::cbrt(*std::min_element(reference.volume0.begin(), reference.volume0.end()));
-  Vec3<float> low = Vec3<float>::constant(INFINITY), high = Vec3<float>::constant(-INFINITY);
-  for (Index p = 0; p < n; ++p)
-    for (int a = 0; a < 3; ++a) {
-      low[a] = std::min(low[a], reference.x[a * n + p]);
-      high[a] = std::max(high[a], reference.x[a * n + p]);
-    }
+  const geometry::Bounds box = geometry::bounds_of_planes(reference.x, n);
+  const Vec3<float> low(float(box.low[0]), float(box.low[1]), float(box.low[2]));
+  const Vec3<float> high(float(box.high[0]), float(box.high[1]), float(box.high[2]));
   rom::ReferenceOccupancy occupancy;
   occupancy.inverse_h = 1.0f / h;
   // The origin on the sampling lattice (points at (i + ½) h), so a lattice point's cube is one cell.
@@ -465,18 +478,8 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
   for (Index i = 0; i < count; ++i)
     if (status[i] == rom::kQuadratureUsed) used.push_back(std::int32_t(i));
   if (Index(used.size()) == count) return quadrature_.view();
-  const Index u = Index(used.size());
-  used_quadrature_.resize(exec_.backend, u);
   used_index_ = DeviceBuffer<std::int32_t>::from_host(exec_.backend, used, exec_.stream);
-  gather(exec_, quadrature_.x, count, 3, used_index_, used_quadrature_.x);
-  gather(exec_, quadrature_.X, count, 3, used_index_, used_quadrature_.X);
-  gather(exec_, quadrature_.v, count, 3, used_index_, used_quadrature_.v);
-  gather(exec_, quadrature_.F, count, 9, used_index_, used_quadrature_.F);
-  gather(exec_, quadrature_.mass, count, 1, used_index_, used_quadrature_.mass);
-  gather(exec_, quadrature_.volume0, count, 1, used_index_, used_quadrature_.volume0);
-  gather(exec_, quadrature_.material, count, 1, used_index_, used_quadrature_.material);
-  gather(exec_, quadrature_.group, count, 1, used_index_, used_quadrature_.group);
-  gather(exec_, quadrature_.id, count, 1, used_index_, used_quadrature_.id);
+  used_quadrature_.gather_from(exec_, quadrature_, used_index_);
   return used_quadrature_.view();
 }
 

@@ -161,6 +161,8 @@ class ReducedSim {
     void allocate(Backend backend, Index n);
     // count = n, reallocating (with headroom) only when n exceeds the capacity.
     void resize(Backend backend, Index n);
+    // These points: the points `index` of `source` (all but C, which stays 0, and status).
+    void gather_from(const Exec& exec, const Quadrature& source, const DeviceBuffer<std::int32_t>& index);
     mpm::ParticleView view();
   } quadrature_;
   // Eulerian: the quadrature points inside the body, gathered for P2G (their indices in quadrature_).

@@ -23,7 +23,8 @@ constexpr Index kSamples = 50;
 
 void run_quadrature_suite(Context& context) {
   const float low = 0.25f, high = 0.75f;
-  const rom::DeformationMapWeights map = random_map(Vec3<float>::constant(low), Vec3<float>::constant(high));
+  const rom::DeformationMapWeights map =
+      random_map(geometry::Bounds{Vec3<double>::constant(low), Vec3<double>::constant(high)});
   for (const Index nominal : {Index(32768), Index(262144)}) {
     const Index wanted = context.scaled(nominal, 4096);
     const float spacing = std::cbrt((high - low) * (high - low) * (high - low) / float(wanted));

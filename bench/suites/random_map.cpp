@@ -7,11 +7,11 @@
 
 namespace romp::bench {
 
-rom::DeformationMapWeights random_map(const Vec3<float>& low, const Vec3<float>& high) {
+rom::DeformationMapWeights random_map(const geometry::Bounds& box) {
   using nn::rom::DeformationMap;
   torch::manual_seed(0);
-  const torch::Tensor lower = torch::tensor({low[0], low[1], low[2]});
-  const torch::Tensor upper = torch::tensor({high[0], high[1], high[2]});
+  const torch::Tensor lower = torch::tensor({float(box.low[0]), float(box.low[1]), float(box.low[2])});
+  const torch::Tensor upper = torch::tensor({float(box.high[0]), float(box.high[1]), float(box.high[2])});
   DeformationMap map(nn::rom::MapArchitecture{6, 5, 30},
                      nn::rom::MapNormalisation{lower, upper, torch::zeros({3}), 1e-3f * torch::ones({3})});
   return nn::rom::fused_weights(*map);

@@ -3,12 +3,12 @@
 // not depend on its weights).
 #pragma once
 
-#include "kernels/math/vec3.h"
+#include "host/geometry/bounds.h"
 #include "kernels/rom/deformation_map_eval.h"
 
 namespace romp::bench {
 
-// Over reference positions in the box [low, high]; its displacements are about a millimetre.
-rom::DeformationMapWeights random_map(const Vec3<float>& low, const Vec3<float>& high);
+// Over reference positions in `box`; its displacements are about a millimetre.
+rom::DeformationMapWeights random_map(const geometry::Bounds& box);
 
 }  // namespace romp::bench

@@ -7,7 +7,6 @@
 // are a substep's median time over the run's stable step at t = 0.
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -34,18 +33,6 @@ constexpr CostCase kCases[] = {
     {RomQuadrature::Lagrangian, RomProjection::Velocity, "lagrangian_velocity"},
 };
 
-// The bounding box of the scene's material points.
-std::pair<Vec3<float>, Vec3<float>> bounds(const mpm::ParticleInit& particles) {
-  const Index n = particles.count();
-  Vec3<float> low = Vec3<float>::constant(1e30f), high = Vec3<float>::constant(-1e30f);
-  for (int a = 0; a < 3; ++a)
-    for (Index p = 0; p < n; ++p) {
-      low[a] = std::min(low[a], particles.x[std::size_t(a * n + p)]);
-      high[a] = std::max(high[a], particles.x[std::size_t(a * n + p)]);
-    }
-  return {low, high};
-}
-
 }  // namespace
 
 void run_rom_cost_suite(Context& context) {
@@ -57,8 +44,7 @@ void run_rom_cost_suite(Context& context) {
   const scene::Scene scene = scene::load_scene(options.scene, options.parameters);
   const scene::SceneSetup setup = scene::build_scene(scene);
   const Index n = setup.particles.count();
-  const auto [low, high] = bounds(setup.particles);
-  const rom::DeformationMapWeights map = random_map(low, high);
+  const rom::DeformationMapWeights map = random_map(geometry::bounds_of_planes(setup.particles.x, n));
   fmt::print("rom-cost {}: {} material points, dx = {:.4g} m\n", options.scene, n, setup.config.dx);
 
   for (const Exec& exec : context.execs()) {
