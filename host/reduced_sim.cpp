@@ -515,8 +515,14 @@ void ReducedSim::substep(float dt) {
   check_inside_domain(samples_.x, m, &sample_index_);
   if (options_.quadrature == RomQuadrature::Lagrangian)
     check_inside_domain(quadrature_.x, quadrature_.count, search_neighbours_ ? &quadrature_index_ : nullptr);
-  // Alg. 5: P2G from the quadrature points, the grid update, G2P at the samples.
-  timed([&] { grid_.rebuild(exec_, Vec3Planes<const float>(quadrature.x)); });
+  // Alg. 5: P2G from the quadrature points, the grid update, G2P at the samples. The grid is built from
+  // the samples too: an Eulerian sample is not a quadrature point (ROM paper, Fig. 6), and near the body's
+  // surface its stencil can reach a block no quadrature point touches. G2P must find that block active
+  // (an inactive one has no node storage to read); its nodes carry no mass, so their velocity is 0, as
+  // on the paper's dense grid.
+  timed([&] {
+    grid_.rebuild(exec_, Vec3Planes<const float>(quadrature.x), Vec3Planes<const float>(samples_.x.data(), m));
+  });
   const mpm::GridView grid = grid_.view();
   timed([&] { mpm::particle_to_grid(exec_, quadrature, grid, step); });
   timed([&] { mpm::update_grid(exec_, grid, step); });

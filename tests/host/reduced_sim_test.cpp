@@ -12,6 +12,7 @@
 
 #include "host/material_library.h"
 #include "host/reduced_sim.h"
+#include "kernels/mpm/bspline.h"
 #include "tests/host/mpm_test_scenes.h"
 #include "tests/host/rom_test_maps.h"
 #include "tests/support/test_exec.h"
@@ -196,6 +197,44 @@ TEST(ReducedSim, EulerianQuadratureWeighsTheBodyAndDropsPointsOutsideIt) {
   EXPECT_EQ(sim.quadrature_points_used(), body.count());
   EXPECT_GT(sim.quadrature_points_outside(), 0);  // the cells around the body reach its boundary nodes
   EXPECT_EQ(sim.quadrature_points_unconverged(), 0);
+}
+
+// A sample at the body's surface reads nodes no Eulerian quadrature point reaches: here, per axis, the
+// body spans cells 8 to 10.74 at 8 points per cell, so its outermost points (at 10.68) read node 12, in
+// the grid block of nodes 12-15, while the quadrature points inside the body (at 8.25 ... 10.25; the
+// one at 10.75 lies outside) reach nodes 7-11 only. Those nodes must exist and carry velocity 0: from
+// rest, with no stress, each sample moves at g Δt times its weight on nodes 7-11.
+TEST(ReducedSim, EulerianSamplesReadNodesNoQuadraturePointReaches) {
+  const mpm::ParticleInit body = test::lattice_box(Vec3<float>::constant(8.0f * kDx),
+                                                   Vec3<float>::constant(10.75f * kDx), kDx, 8, 1000.0f);
+  const float shift = -0.01f * kDx;  // x̂: off the lattice, so no quadrature point is on the body's faces
+  ReducedOptions eulerian;
+  eulerian.quadrature = RomQuadrature::Eulerian;
+  FullOrderConfig config = falling_config();
+  config.materials[0].strength_off_until = 1.0;  // no stress at all (F = I still leaves the SVD's rounding)
+  ReducedSim sim(test::exec(), config, body, test::translation_map(), {shift, shift, shift}, eulerian);
+  sim.substep(kDt);
+  const Index n = body.count();
+  double weight_on_mass = 0.0;
+  Index beyond = 0;  // samples whose stencils reach node 12
+  for (Index p = 0; p < n; ++p) {
+    const Vec3<float> x = test::plane_vector(body.x, n, p) + Vec3<float>::constant(shift);
+    const mpm::QuadraticStencil<float> stencil(x, 1.0f / kDx);
+    double product = 1.0;
+    for (int a = 0; a < 3; ++a) {
+      double sum = 0.0;
+      for (int k = 0; k < 3; ++k) sum += stencil.base[a] + k <= 11 ? stencil.w[a][k] : 0.0;
+      product *= sum;
+      beyond += stencil.base[a] + 2 == 12 && stencil.w[a][2] > 0.01f;
+    }
+    weight_on_mass += product / double(n);
+  }
+  ASSERT_GT(beyond, 0);
+  ASSERT_LT(weight_on_mass, 1.0 - 1e-3);  // the missing weight is measurable
+  // Every point is a sample and g(X; x̂) = X + x̂: v̂ is the samples' mean velocity.
+  EXPECT_EQ(sim.vhat()[0], 0.0f);
+  EXPECT_NEAR(sim.vhat()[1], config.gravity[1] * kDt * weight_on_mass, 1e-6 * std::fabs(config.gravity[1] * kDt));
+  EXPECT_EQ(sim.vhat()[2], 0.0f);
 }
 
 TEST(ReducedSim, DecodesAFinerSamplingOfTheBody) {
