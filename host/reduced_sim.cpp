@@ -473,11 +473,10 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
     last_quadrature_mass_ += mass[i];
   }
   // Points outside the body (or unconverged) carry no mass; P2G would evaluate a stress and activate
-  // grid blocks for each of them, so the used points are gathered into a set of their own.
+  // grid blocks for each of them, so the used points are gathered into a set of their own, P2G's.
   std::vector<std::int32_t> used;
   for (Index i = 0; i < count; ++i)
     if (status[i] == rom::kQuadratureUsed) used.push_back(std::int32_t(i));
-  if (Index(used.size()) == count) return quadrature_.view();
   used_index_ = DeviceBuffer<std::int32_t>::from_host(exec_.backend, used, exec_.stream);
   used_quadrature_.gather_from(exec_, quadrature_, used_index_);
   return used_quadrature_.view();
@@ -529,15 +528,22 @@ void ReducedSim::substep(float dt) {
   const mpm::ParticleView samples = samples_.view();
   timed([&] { mpm::grid_to_particle(exec_, samples, grid, step); });
   inputs_.check_stages("reduced simulation: ", steps_, time_, [this](mpm::Stage stage, std::int64_t slot) {
-    // P2G runs over the quadrature points; G2P over the samples, reported as their material points.
-    if (stage != mpm::Stage::G2P && search_neighbours_) {
-      const std::int64_t point = quadrature_index_.to_host(exec_.stream)[std::size_t(slot)];
-      return std::pair<std::int64_t, std::string>(point, fmt::format("material point {} (a quadrature point)", point));
+    // G2P runs over the samples and P2G over the quadrature points, reported as their material points;
+    // an Eulerian quadrature point is none (index -1), so it is named by where it is.
+    if (stage == mpm::Stage::G2P) {
+      const std::int64_t point = sample_index_.to_host(exec_.stream)[std::size_t(slot)];
+      return std::pair<std::int64_t, std::string>(point, fmt::format("sample material point {}", point));
     }
-    if (stage != mpm::Stage::G2P)
-      return std::pair<std::int64_t, std::string>(slot, fmt::format("quadrature point {}", slot));
-    const std::int64_t point = sample_index_.to_host(exec_.stream)[std::size_t(slot)];
-    return std::pair<std::int64_t, std::string>(point, fmt::format("sample material point {}", point));
+    if (options_.quadrature == RomQuadrature::Eulerian) {
+      const Vec3<float> x = planes_at(used_quadrature_.x.to_host(exec_.stream), used_quadrature_.count, slot),
+                        X = planes_at(used_quadrature_.X.to_host(exec_.stream), used_quadrature_.count, slot);
+      return std::pair<std::int64_t, std::string>(
+          -1, fmt::format("the Eulerian quadrature point at x = ({:.4g}, {:.4g}, {:.4g}) m, reference X = ({:.4g}, "
+                          "{:.4g}, {:.4g}) m",
+                          x[0], x[1], x[2], X[0], X[1], X[2]));
+    }
+    const std::int64_t point = search_neighbours_ ? quadrature_index_.to_host(exec_.stream)[std::size_t(slot)] : slot;
+    return std::pair<std::int64_t, std::string>(point, fmt::format("material point {} (a quadrature point)", point));
   });
 
   // Alg. 6 / 7: v̂_{n+1} from the trial velocities on the tangent space at x̂_n; then x̂_{n+1}.

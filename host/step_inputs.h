@@ -25,7 +25,9 @@ class NonFiniteError : public Error {
       : Error(message), step_(step), stage_(stage), index_(index) {}
   std::int64_t step() const { return step_; }
   mpm::Stage stage() const { return stage_; }
-  std::int64_t index() const { return index_; }  // particle id (initial order), or node for the grid update
+  // Particle id (initial order), node for the grid update, or -1 for a point that is no particle (an
+  // Eulerian quadrature point).
+  std::int64_t index() const { return index_; }
 
  private:
   std::int64_t step_;

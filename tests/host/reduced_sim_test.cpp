@@ -290,6 +290,32 @@ TEST(ReducedSim, StateDecodedOutsideTheDomainStopsNamingThePoint) {
   }
 }
 
+// A stress that is not finite stops P2G naming a material point for the Lagrangian quadrature, and for
+// the Eulerian one, whose points are none, the point's place.
+TEST(ReducedSim, NonFiniteStressNamesTheQuadraturePoint) {
+  FullOrderConfig config = falling_config();
+  config.materials[0].params.mu = std::numeric_limits<float>::quiet_NaN();
+  for (const RomQuadrature quadrature : {RomQuadrature::Lagrangian, RomQuadrature::Eulerian}) {
+    ReducedOptions options;
+    options.quadrature = quadrature;
+    ReducedSim sim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, options);
+    try {
+      sim.substep(kDt);
+      FAIL() << "a non-finite stress must stop the run";
+    } catch (const NonFiniteError& error) {
+      const std::string message = error.what();
+      EXPECT_EQ(error.stage(), mpm::Stage::P2G);
+      if (quadrature == RomQuadrature::Lagrangian) {
+        EXPECT_EQ(error.index(), 0);
+        EXPECT_NE(message.find("material point 0 (a quadrature point)"), std::string::npos) << message;
+      } else {
+        EXPECT_EQ(error.index(), -1);
+        EXPECT_NE(message.find("the Eulerian quadrature point at x = (0.3"), std::string::npos) << message;
+      }
+    }
+  }
+}
+
 // ReducedOptions::cfl replaces the scene's CFL number in the reduced substep (romp run --rom-cfl), within
 // (0, 1].
 TEST(ReducedSim, CflOptionScalesTheStableStep) {
