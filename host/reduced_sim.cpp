@@ -460,7 +460,7 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
                             Vec3Planes<float>(quadrature_.v.data(), count),
                             Mat3Planes<float>(quadrature_.F.data(), count), quadrature_.mass.span(),
                             quadrature_.volume0.span(), quadrature_.material.span(), quadrature_.status.span(),
-                            newton_steps_.span()});
+                            Span<std::int32_t>(newton_steps_.data(), count)});
   const std::vector<std::int32_t> status = quadrature_.status.to_host(exec_.stream);
   const std::vector<std::int32_t> steps = newton_steps_.to_host(exec_.stream);
   const std::vector<float> mass = quadrature_.mass.to_host(exec_.stream);

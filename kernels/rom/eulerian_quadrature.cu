@@ -118,7 +118,7 @@ void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map,
              "the map's parameter buffer does not match its sizes");
   ROMP_CHECK(X_guess.count() == n && out.X.count() == n && out.v.count() == n && out.F.count() == n &&
                  out.mass.size() == n && out.volume0.size() == n && out.material.size() == n &&
-                 out.status.size() == n,
+                 out.status.size() == n && out.iterations.size() == n,
              "every quadrature array must hold one entry per point");
   ROMP_CHECK(volume > 0.0f && options.iterations >= 1 && options.tolerance > 0.0f,
              "the quadrature volume, iteration count and tolerance must be > 0");
