@@ -66,14 +66,25 @@ shared_cores=(--threads 1)
 for option in "${options[@]}"; do [ "$option" != --threads ] || shared_cores=(); done
 IFS=, read -r -a scheme_list <<< "$schemes"
 
+# sweep_complete SWEEP: whether every member in SWEEP's manifest has its snapshot. `romp sweep` writes the
+# manifest before any member runs, so an interrupted sweep has one too; run again, it resumes the rest.
+sweep_complete() {
+  [ -f "$1/manifest.json" ] && /usr/bin/python3 - "$1/manifest.json" <<'EOF2'
+import json, os, sys
+manifest = json.load(open(sys.argv[1]))
+folder = os.path.dirname(sys.argv[1])
+sys.exit(0 if all(os.path.isfile(os.path.join(folder, m["snapshot"])) for m in manifest["members"]) else 1)
+EOF2
+}
+
 # sweep NAME SCENE SED: the sweep of scenes/rom/SCENE with the paper's resolution (SED rewrites the
-# scene's dx line) in OUTPUT_DIR/NAME/sweep, unless there; two members at a time.
+# scene's dx line) in OUTPUT_DIR/NAME/sweep, unless complete there; two members at a time.
 sweep() {
   local folder="$out/$1"
   mkdir -p "$folder"
   local scene="$folder/$(basename "$2" .toml)_paper.toml"
   [ -f "$scene" ] || sed "$3" "$root/scenes/rom/$2" > "$scene"
-  if [ ! -f "$folder/sweep/manifest.json" ]; then
+  if ! sweep_complete "$folder/sweep"; then
     echo "sweep: $folder/sweep" >&2
     "$romp" "${shared_cores[@]}" "${options[@]}" sweep "$scene" -o "$folder/sweep" -j 2 > "$folder/sweep.log" 2>&1
   fi
