@@ -399,6 +399,7 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
   const bool prune = options_.neighbour_search != NeighbourSearch::Never;
   const std::vector<std::uint64_t> near = prune ? rom::bases_near_samples(x, m, inverse_dx) : std::vector<std::uint64_t>();
   std::vector<Vec3<float>> kept, guessed;
+  std::vector<Index> sample_of;  // the sample whose linearisation of g gave each point's guess
   for (const auto& [key, s] : cells) {
     const int c[3] = {int(key >> 42), int((key >> 21) & 0x1fffff), int(key & 0x1fffff)};
     Mat3<double> F_s;
@@ -430,15 +431,19 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
                                               : offset;
           kept.push_back(point);
           guessed.push_back(Vec3<float>(float(X_s[0] + step[0]), float(X_s[1] + step[1]), float(X_s[2] + step[2])));
+          sample_of.push_back(s);
         }
   }
   const Index count = Index(kept.size());
-  std::vector<float> points(static_cast<std::size_t>(3 * count)), guesses(static_cast<std::size_t>(3 * count));
-  for (Index q = 0; q < count; ++q)
+  std::vector<float> points(static_cast<std::size_t>(3 * count)), guesses(static_cast<std::size_t>(3 * count)),
+      jacobians(static_cast<std::size_t>(9 * count));
+  for (Index q = 0; q < count; ++q) {
     for (int a = 0; a < 3; ++a) {
       points[std::size_t(a * count + q)] = kept[std::size_t(q)][a];
       guesses[std::size_t(a * count + q)] = guessed[std::size_t(q)][a];
     }
+    for (int e = 0; e < 9; ++e) jacobians[std::size_t(e * count + q)] = F[std::size_t(e * m + sample_of[std::size_t(q)])];
+  }
   if (quadrature_.count != count) {
     quadrature_.allocate(exec_.backend, count);
     std::vector<std::int32_t> none(static_cast<std::size_t>(count), mpm::kNoDirichletGroup), ids(none.size());
@@ -446,9 +451,10 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
     quadrature_.group = DeviceBuffer<std::int32_t>::from_host(exec_.backend, none);
     quadrature_.id = DeviceBuffer<std::int32_t>::from_host(exec_.backend, ids);
   }
-  if (newton_steps_.size() < count) newton_steps_ = DeviceBuffer<std::int32_t>(exec_.backend, count);
+  if (inversion_iterations_.size() < count) inversion_iterations_ = DeviceBuffer<std::int32_t>(exec_.backend, count);
   quadrature_.x.copy_from_host(Span<const float>(points.data(), Index(points.size())), exec_.stream);
-  const DeviceBuffer<float> guess = DeviceBuffer<float>::from_host(exec_.backend, guesses, exec_.stream);
+  const DeviceBuffer<float> guess = DeviceBuffer<float>::from_host(exec_.backend, guesses, exec_.stream),
+                            guess_jacobian = DeviceBuffer<float>::from_host(exec_.backend, jacobians, exec_.stream);
   rom::InversionOptions inversion;
   inversion.iterations = options_.inversion_iterations;
   inversion.tolerance = options_.inversion_tolerance * dx;
@@ -456,20 +462,21 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
                            occupancy_, densities_.span(), dx * dx * dx / float(l * l * l), inversion,
                            Vec3Planes<const float>(quadrature_.x.data(), count),
                            Vec3Planes<const float>(guess.data(), count),
+                           Mat3Planes<const float>(guess_jacobian.data(), count),
                            {Vec3Planes<float>(quadrature_.X.data(), count),
                             Vec3Planes<float>(quadrature_.v.data(), count),
                             Mat3Planes<float>(quadrature_.F.data(), count), quadrature_.mass.span(),
                             quadrature_.volume0.span(), quadrature_.material.span(), quadrature_.status.span(),
-                            Span<std::int32_t>(newton_steps_.data(), count)});
+                            Span<std::int32_t>(inversion_iterations_.data(), count)});
   const std::vector<std::int32_t> status = quadrature_.status.to_host(exec_.stream);
-  const std::vector<std::int32_t> steps = newton_steps_.to_host(exec_.stream);
+  const std::vector<std::int32_t> steps = inversion_iterations_.to_host(exec_.stream);
   const std::vector<float> mass = quadrature_.mass.to_host(exec_.stream);
   last_quadrature_mass_ = 0.0;
   for (Index i = 0; i < count; ++i) {
     quadrature_used_ += status[i] == rom::kQuadratureUsed;
     quadrature_outside_ += status[i] == rom::kQuadratureOutside;
     quadrature_unconverged_ += status[i] == rom::kQuadratureUnconverged;
-    newton_steps_total_ += steps[i];
+    inversion_iterations_total_ += steps[i];
     last_quadrature_mass_ += mass[i];
   }
   // Points outside the body (or unconverged) carry no mass; P2G would evaluate a stress and activate

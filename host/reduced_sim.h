@@ -50,7 +50,7 @@ struct ReducedOptions {
   RomProjection projection = RomProjection::Velocity;
   NeighbourSearch neighbour_search = NeighbourSearch::Auto;
   int points_per_cell = 2;  // ℓ of the Eulerian quadrature, per axis
-  // Newton inversion of g for Eulerian points: at most this many iterations, converged within
+  // Inversion of g for Eulerian points (quasi-Newton): at most this many iterations, converged within
   // inversion_tolerance × dx.
   int inversion_iterations = 20;
   float inversion_tolerance = 1e-4f;
@@ -102,8 +102,8 @@ class ReducedSim {
   std::int64_t quadrature_points_used() const { return quadrature_used_; }
   std::int64_t quadrature_points_outside() const { return quadrature_outside_; }
   std::int64_t quadrature_points_unconverged() const { return quadrature_unconverged_; }
-  // Newton steps of g's inversion so far, summed over the Eulerian points.
-  std::int64_t newton_steps() const { return newton_steps_total_; }
+  // Iterations of g's inversion so far, summed over the Eulerian points.
+  std::int64_t inversion_iterations() const { return inversion_iterations_total_; }
   // The quadrature mass of the last substep (kg): with every point sampled, the body's mass.
   double last_quadrature_mass() const { return last_quadrature_mass_; }
   // Lagrangian quadrature: whether it searches the samples' neighbours.
@@ -168,7 +168,7 @@ class ReducedSim {
   // Eulerian: the quadrature points inside the body, gathered for P2G (their indices in quadrature_).
   Quadrature used_quadrature_;
   DeviceBuffer<std::int32_t> used_index_;
-  DeviceBuffer<std::int32_t> newton_steps_;  // per Eulerian point, this substep
+  DeviceBuffer<std::int32_t> inversion_iterations_;  // per Eulerian point, this substep
   // The reference state (X, mass, volume, material, Dirichlet group, id) of the material points `index`.
   void gather_reference(const DeviceBuffer<std::int32_t>& index, Quadrature& points);
   DeviceBuffer<float> dg_dxhat_;  // Lagrangian: ∂g/∂x̂ at the quadrature points
@@ -197,7 +197,7 @@ class ReducedSim {
   double time_ = 0.0;
   std::int64_t steps_ = 0;
   std::int64_t unconverged_projections_ = 0;
-  std::int64_t quadrature_used_ = 0, quadrature_outside_ = 0, quadrature_unconverged_ = 0, newton_steps_total_ = 0;
+  std::int64_t quadrature_used_ = 0, quadrature_outside_ = 0, quadrature_unconverged_ = 0, inversion_iterations_total_ = 0;
   std::int64_t lagrangian_points_ = 0;
   double last_quadrature_mass_ = 0.0;
   std::vector<std::pair<std::string, double>> stage_seconds_;

@@ -93,10 +93,10 @@ class ReducedRun final : public Simulation {
         sim_.quadrature_points_used() + sim_.quadrature_points_outside() + sim_.quadrature_points_unconverged();
     if (points > 0)
       lines.push_back(fmt::format("Eulerian quadrature: {} points, {} used, {} outside the body, {} whose inversion "
-                                  "of g did not converge; {} Newton steps ({:.2f} per point used)",
+                                  "of g did not converge; {} inversion iterations ({:.2f} per point used)",
                                   points, sim_.quadrature_points_used(), sim_.quadrature_points_outside(),
-                                  sim_.quadrature_points_unconverged(), sim_.newton_steps(),
-                                  double(sim_.newton_steps()) / double(std::max<std::int64_t>(sim_.quadrature_points_used(), 1))));
+                                  sim_.quadrature_points_unconverged(), sim_.inversion_iterations(),
+                                  double(sim_.inversion_iterations()) / double(std::max<std::int64_t>(sim_.quadrature_points_used(), 1))));
     return lines;
   }
 

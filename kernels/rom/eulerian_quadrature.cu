@@ -11,8 +11,10 @@
 namespace romp::rom {
 namespace {
 
-// How often the Newton step is halved before the point counts as unconverged.
+// How often a step is halved before the point counts as unconverged (with the true Jacobian) or before
+// Broyden's estimate is replaced by the true Jacobian.
 constexpr int kHalvings = 6;
+constexpr int kBroydenHalvings = 2;
 
 struct EulerianPoint {
   DeformationMapView<float> map;
@@ -24,6 +26,7 @@ struct EulerianPoint {
   InversionOptions options;
   Vec3Planes<const float> x;
   Vec3Planes<const float> X_guess;
+  Mat3Planes<const float> F_guess;
   EulerianPointsOut out;
 
   // F⁻¹ r by Cramer's rule: the columns of det(F) F⁻¹ are the cross products of F's rows.
@@ -35,32 +38,54 @@ struct EulerianPoint {
     return true;
   }
 
-  ROMP_HD bool invert(const Vec3<float>& target, Vec3<float>& X, int& steps) const {
+  ROMP_HD Vec3<float> g_at(const Vec3<float>& X) const {
     Vec3<float> g;
-    Mat3<float> F;
-    evaluate_map_point(map, xhat, X, g, &F, static_cast<float*>(nullptr), 0);
+    evaluate_map_point(map, xhat, X, g, static_cast<Mat3<float>*>(nullptr), static_cast<float*>(nullptr), 0);
+    return g;
+  }
+
+  // Solves g(X) = target from X by Broyden's method with a backtracking line search, starting from the
+  // Jacobian estimate B (g linearised at the cell's sample). A step then costs one evaluation of g, where
+  // a Newton step's ∇_X g costs three reverse sweeps more. Where B gives no descent it is replaced by the
+  // true ∇_X g at X, so the iteration is Newton's there and converges wherever Newton's does.
+  ROMP_HD bool invert(const Vec3<float>& target, Mat3<float> B, Vec3<float>& X, int& steps) const {
+    Vec3<float> g = g_at(X);
     float residual = norm(g - target);
+    bool exact = false;  // whether B is ∇_X g at X
     for (int iteration = 0; iteration < options.iterations; ++iteration, ++steps) {
       if (residual <= options.tolerance) return true;
       Vec3<float> delta;
-      if (!solve(F, g - target, delta)) return false;
-      float alpha = 1.0f;
       bool descended = false;
-      for (int halving = 0; halving <= kHalvings && !descended; ++halving, alpha *= 0.5f) {
-        const Vec3<float> X_try = X - alpha * delta;
-        Vec3<float> g_try;
-        Mat3<float> F_try;
-        evaluate_map_point(map, xhat, X_try, g_try, &F_try, static_cast<float*>(nullptr), 0);
-        const float residual_try = norm(g_try - target);
-        if (residual_try < residual) {
-          X = X_try;
-          g = g_try;
-          F = F_try;
-          residual = residual_try;
-          descended = true;
+      if (solve(B, g - target, delta)) {
+        float alpha = 1.0f;
+        for (int halving = 0; halving <= (exact ? kHalvings : kBroydenHalvings) && !descended;
+             ++halving, alpha *= 0.5f) {
+          const Vec3<float> step = -alpha * delta;
+          const Vec3<float> g_try = g_at(X + step);
+          const float residual_try = norm(g_try - target);
+          if (residual_try < residual) {
+            // Broyden's update B += (y − B s) sᵀ / sᵀs, the least change to B that maps the step s to the
+            // change y of g; skipped for steps at the tolerance's scale, where y is mostly float rounding.
+            const float length = norm(step);
+            if (length > options.tolerance)
+              B += Mat3<float>::outer((g_try - g) - B * step, step) * (1.0f / (length * length));
+            X = X + step;
+            g = g_try;
+            residual = residual_try;
+            descended = true;
+          }
         }
       }
-      if (!descended) return residual <= options.tolerance;
+      if (descended) {
+        exact = false;
+      } else if (exact) {
+        return false;
+      } else {
+        Mat3<float> F;
+        evaluate_map_point(map, xhat, X, g, &F, static_cast<float*>(nullptr), 0);
+        B = F;
+        exact = true;
+      }
     }
     return residual <= options.tolerance;
   }
@@ -72,7 +97,7 @@ struct EulerianPoint {
     int material = -1, steps = 0;
     if (!occupancy.near(X, options.outside_margin)) {
       status = kQuadratureOutside;
-    } else if (invert(target, X, steps)) {
+    } else if (invert(target, F_guess.load(i), X, steps)) {
       material = occupancy.material_at(X);
       status = material >= 0 ? kQuadratureUsed : kQuadratureOutside;
     }
@@ -109,14 +134,15 @@ struct EulerianPoint {
 void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map, Span<const float> xhat,
                          Span<const float> vhat, const ReferenceOccupancy& occupancy, Span<const float> density,
                          float volume, const InversionOptions& options, Vec3Planes<const float> x,
-                         Vec3Planes<const float> X_guess, const EulerianPointsOut& out) {
+                         Vec3Planes<const float> X_guess, Mat3Planes<const float> F_guess,
+                         const EulerianPointsOut& out) {
   const Index n = x.count();
   ROMP_CHECK(map.latent >= 1 && map.latent <= kMaxMapLatent && xhat.size() == map.latent &&
                  vhat.size() == map.latent,
              "x̂ and v̂ must hold the map's r values, r in [1, " + std::to_string(kMaxMapLatent) + "]");
   ROMP_CHECK(map.parameters.size() == deformation_map_parameter_count(map.latent, map.hidden_layers, map.width),
              "the map's parameter buffer does not match its sizes");
-  ROMP_CHECK(X_guess.count() == n && out.X.count() == n && out.v.count() == n && out.F.count() == n &&
+  ROMP_CHECK(X_guess.count() == n && F_guess.count() == n && out.X.count() == n && out.v.count() == n && out.F.count() == n &&
                  out.mass.size() == n && out.volume0.size() == n && out.material.size() == n &&
                  out.status.size() == n && out.iterations.size() == n,
              "every quadrature array must hold one entry per point");
@@ -124,7 +150,8 @@ void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map,
              "the quadrature volume, iteration count and tolerance must be > 0");
   if (n == 0) return;
   for_each(exec, n,
-           EulerianPoint{map, xhat.data(), vhat.data(), occupancy, density, volume, options, x, X_guess, out});
+           EulerianPoint{map, xhat.data(), vhat.data(), occupancy, density, volume, options, x, X_guess, F_guess,
+                         out});
 }
 
 }  // namespace romp::rom

@@ -53,7 +53,8 @@ struct ReferenceOccupancy {
   }
 };
 
-// How g is inverted: damped Newton, X ← X − α F⁻¹ (g(X) − x), α halved until the residual falls.
+// How g is inverted: X ← X − α B⁻¹ (g(X) − x), α halved until the residual falls, with B Broyden's
+// running estimate of ∇_X g from a first guess, replaced by the true ∇_X g where it gives no descent.
 struct InversionOptions {
   int iterations = 20;
   float tolerance = 0.0f;  // m: converged when |g(X) − x| ≤ tolerance
@@ -71,17 +72,18 @@ struct EulerianPointsOut {
   Mat3Planes<float> F;
   Span<float> mass, volume0;  // ρ₀ V / J and V / J; 0 for dropped points
   Span<std::int32_t> material, status;
-  Span<std::int32_t> iterations;  // Newton steps taken (0 for a guess already converged or not inverted)
+  Span<std::int32_t> iterations;  // iterations taken (0 for a guess already converged or not inverted)
 };
 
-// For n points at x (current configuration) with first guesses X_guess: inverts g, looks the result up
-// in `occupancy`, and writes the kinematics. Points that do not converge or land outside the body are
-// dropped: mass and volume 0, F = I, v = 0, so they add nothing to a P2G. `density` holds ρ₀ per
+// For n points at x (current configuration) with first guesses X_guess and F_guess of X and of ∇_X g
+// there (g linearised at a nearby point gives both): inverts g, looks the result up in `occupancy`, and
+// writes the kinematics. Points that do not converge or land outside the body are dropped: mass and volume 0, F = I, v = 0, so they add nothing to a P2G. `density` holds ρ₀ per
 // material; `volume` is each point's share of the current configuration (dx³ / ℓ³). xhat, vhat: r
 // values on exec's backend.
 void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map, Span<const float> xhat,
                          Span<const float> vhat, const ReferenceOccupancy& occupancy, Span<const float> density,
                          float volume, const InversionOptions& options, Vec3Planes<const float> x,
-                         Vec3Planes<const float> X_guess, const EulerianPointsOut& out);
+                         Vec3Planes<const float> X_guess, Mat3Planes<const float> F_guess,
+                         const EulerianPointsOut& out);
 
 }  // namespace romp::rom

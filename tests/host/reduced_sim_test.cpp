@@ -119,7 +119,7 @@ NeighbourRun run_deformed_body(RomQuadrature quadrature, NeighbourSearch search)
                  {0.0f, 0.0f, 0.0f}, options);
   EXPECT_EQ(sim.searches_neighbours(), quadrature == RomQuadrature::Lagrangian && search == NeighbourSearch::Always);
   for (int s = 0; s < 10; ++s) sim.substep(kDt);
-  return {sim.xhat(), sim.last_quadrature_count(), sim.newton_steps()};
+  return {sim.xhat(), sim.last_quadrature_count(), sim.inversion_iterations()};
 }
 
 // The same x̂ from the samples' neighbours as from every point. The sums at the samples' nodes may take
