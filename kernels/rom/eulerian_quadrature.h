@@ -60,8 +60,10 @@ struct InversionOptions {
   float tolerance = 0.0f;  // m: converged when |g(X) − x| ≤ tolerance
   // A point whose first guess lies farther than this many occupancy cells from any material is dropped
   // without inverting g: most points of the cells around a sample lie outside the body, and the guess
-  // (g linearised at the sample) is off by far less than this near it.
-  int outside_margin = 3;
+  // (g linearised at the sample) is off by far less than this near it. On the tower's trained map the
+  // guesses of the points used were off by at most 0.72 cells (700 substeps), and margins of 1, 2 and 3
+  // kept exactly the same points (504 substeps), 2 with a fifth less inversion time than 3.
+  int outside_margin = 2;
 };
 
 // What happened to each quadrature point.
