@@ -12,6 +12,25 @@
 
 namespace romp {
 
+// Host ↔ backend copies of a view of backend memory (a buffer, its prefix, one element), counted in
+// memory::traffic().
+template <class T>
+void upload(Backend backend, Span<T> device, Span<const T> host, Stream stream = nullptr) {
+  ROMP_CHECK(host.size() == device.size(), "upload: " + std::to_string(host.size()) + " host elements into " +
+                                               std::to_string(device.size()));
+  memory::upload(device.data(), backend, host.data(), std::size_t(host.size()) * sizeof(T), stream);
+}
+template <class T>
+std::vector<std::remove_const_t<T>> download(Backend backend, Span<T> device, Stream stream = nullptr) {
+  std::vector<std::remove_const_t<T>> host(static_cast<std::size_t>(device.size()));
+  memory::download(host.data(), device.data(), backend, host.size() * sizeof(T), stream);
+  return host;
+}
+template <class T>
+void upload(Backend backend, Span<T> device, const std::vector<std::remove_const_t<T>>& host, Stream stream = nullptr) {
+  upload(backend, device, Span<const T>(host.data(), Index(host.size())), stream);
+}
+
 template <class T>
 class DeviceBuffer {
   static_assert(std::is_trivially_copyable_v<T>, "DeviceBuffer holds trivially copyable elements");
@@ -61,18 +80,23 @@ class DeviceBuffer {
   void copy_from_host(Span<const T> host, Stream stream = nullptr) {
     ROMP_CHECK(host.size() == size_, "copy_from_host: " + std::to_string(host.size()) +
                                          " host elements into a buffer of " + std::to_string(size_));
-    memory::copy(data_, backend_, host.data(), Backend::Cpu, bytes(), stream);
+    upload(backend_, span(), host, stream);
   }
   void copy_to_host(Span<T> host, Stream stream = nullptr) const {
     ROMP_CHECK(host.size() == size_, "copy_to_host: buffer of " + std::to_string(size_) + " into " +
                                          std::to_string(host.size()) + " host elements");
-    memory::copy(host.data(), Backend::Cpu, data_, backend_, bytes(), stream);
+    memory::download(host.data(), data_, backend_, bytes(), stream);
   }
-  std::vector<T> to_host(Stream stream = nullptr) const {
-    std::vector<T> host(static_cast<std::size_t>(size_));
-    copy_to_host(Span<T>(host.data(), size_), stream);
-    return host;
+  std::vector<T> to_host(Stream stream = nullptr) const { return download(backend_, span(), stream); }
+
+  // For buffers refilled every step with a count that varies: at least n elements, grown to n and a
+  // quarter when short, so the allocation happens only when the count outgrows every earlier one. The
+  // contents are not kept. Use prefix(count) for this step's elements.
+  void ensure_size(Backend backend, Index n) {
+    if (size_ < n || (backend != backend_ && n > 0)) *this = DeviceBuffer(backend, n + n / 4);
   }
+  Span<T> prefix(Index count) { return span().subspan(0, checked_prefix(count)); }
+  Span<const T> prefix(Index count) const { return span().subspan(0, checked_prefix(count)); }
 
   DeviceBuffer clone(Stream stream = nullptr) const { return clone_to(backend_, stream); }
   DeviceBuffer clone_to(Backend backend, Stream stream = nullptr) const {
@@ -84,6 +108,11 @@ class DeviceBuffer {
   void fill_zero(Stream stream = nullptr) { memory::fill_zero(data_, backend_, bytes(), stream); }
 
  private:
+  Index checked_prefix(Index count) const {
+    ROMP_CHECK(count >= 0 && count <= size_, "prefix of " + std::to_string(count) + " elements in a buffer of " +
+                                                 std::to_string(size_));
+    return count;
+  }
   static Index checked_size(Index size) {
     ROMP_CHECK(size >= 0, "DeviceBuffer size must be non-negative, got " + std::to_string(size));
     return size;

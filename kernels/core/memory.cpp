@@ -1,6 +1,7 @@
 // Allocation and copies: aligned host memory on the CPU, cudaMalloc/cudaMemcpy on CUDA.
 #include "kernels/core/memory.h"
 
+#include <atomic>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -25,10 +26,13 @@ cudaMemcpyKind copy_kind(Backend destination, Backend source) {
 }
 #endif
 
+std::atomic<std::int64_t> allocations{0}, uploads{0}, downloads{0};
+
 }  // namespace
 
 void* allocate(Backend backend, std::size_t bytes) {
   if (bytes == 0) return nullptr;
+  allocations.fetch_add(1, std::memory_order_relaxed);
   if (backend == Backend::Cpu) {
     const std::size_t rounded = (bytes + kHostAlignment - 1) / kHostAlignment * kHostAlignment;
     void* pointer = std::aligned_alloc(kHostAlignment, rounded);
@@ -69,6 +73,24 @@ void copy(void* destination, Backend destination_backend, const void* source, Ba
   (void)stream;
   no_cuda_backend();
 #endif
+}
+
+void upload(void* destination, Backend backend, const void* host, std::size_t bytes, Stream stream) {
+  if (bytes > 0) uploads.fetch_add(1, std::memory_order_relaxed);
+  copy(destination, backend, host, Backend::Cpu, bytes, stream);
+}
+
+void download(void* host, const void* source, Backend backend, std::size_t bytes, Stream stream) {
+  if (bytes > 0) downloads.fetch_add(1, std::memory_order_relaxed);
+  copy(host, Backend::Cpu, source, backend, bytes, stream);
+}
+
+Traffic traffic() {
+  Traffic counts;
+  counts.allocations = allocations.load(std::memory_order_relaxed);
+  counts.uploads = uploads.load(std::memory_order_relaxed);
+  counts.downloads = downloads.load(std::memory_order_relaxed);
+  return counts;
 }
 
 void fill_zero(void* destination, Backend backend, std::size_t bytes, Stream stream) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #include "kernels/core/exec.h"
 
@@ -18,6 +19,19 @@ void release(Backend backend, void* pointer) noexcept;
 // and complete when the call returns, so host memory may be reused at once.
 void copy(void* destination, Backend destination_backend, const void* source, Backend source_backend,
           std::size_t bytes, Stream stream = nullptr);
+
+// copy() from host memory to `backend` memory (upload) or back (download), counted in traffic().
+void upload(void* destination, Backend backend, const void* host, std::size_t bytes, Stream stream = nullptr);
+void download(void* host, const void* source, Backend backend, std::size_t bytes, Stream stream = nullptr);
+
+// What the host has spent since the process started, on either backend: allocations of a byte or more
+// (cudaMalloc on CUDA, whose matching cudaFree synchronises the device) and non-empty uploads and
+// downloads (blocking round trips on CUDA, memcpy on the CPU). A loop's budget of both can so be
+// tested on a machine without a GPU.
+struct Traffic {
+  std::int64_t allocations = 0, uploads = 0, downloads = 0;
+};
+Traffic traffic();
 
 // Sets `bytes` to zero, ordered on `stream` (asynchronous on CUDA).
 void fill_zero(void* destination, Backend backend, std::size_t bytes, Stream stream = nullptr);

@@ -325,7 +325,7 @@ void particles_to_corners(const Exec& exec, const ParticleView& particles, const
     memory::fill_zero(domains.force.data() + a * domains.corners, exec.backend, bytes, exec.stream);
   }
   const float at_rest = 1.0f;
-  memory::copy(domains.stiffening.data(), exec.backend, &at_rest, Backend::Cpu, sizeof at_rest, exec.stream);
+  memory::upload(domains.stiffening.data(), exec.backend, &at_rest, sizeof at_rest, exec.stream);
   for_each(exec, particles.count, ParticlesToCorners{particles, domains, step, Scatter::for_exec(exec)});
 }
 

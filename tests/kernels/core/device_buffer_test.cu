@@ -94,6 +94,53 @@ TEST(DeviceBuffer, TransferSizeMismatchIsAnError) {
   EXPECT_THROW(buffer.copy_from_host(Span<const float>(three.data(), 3)), Error);
 }
 
+// A buffer refilled every step with a varying count allocates only when the count outgrows it, and
+// then with headroom; prefixes carry this step's elements.
+TEST(DeviceBuffer, EnsureSizeGrowsWithHeadroomAndOtherwiseKeepsTheStorage) {
+  const Exec& exec = test::exec();
+  DeviceBuffer<float> buffer;
+  buffer.ensure_size(exec.backend, 100);
+  EXPECT_EQ(buffer.backend(), exec.backend);
+  EXPECT_EQ(buffer.size(), 125);
+  const float* storage = buffer.data();
+  const memory::Traffic before = memory::traffic();
+  for (const Index n : {60, 125, 1, 0}) {
+    buffer.ensure_size(exec.backend, n);
+    EXPECT_EQ(buffer.data(), storage) << n;
+  }
+  EXPECT_EQ(memory::traffic().allocations, before.allocations);
+  buffer.ensure_size(exec.backend, 126);
+  EXPECT_EQ(buffer.size(), 157);
+  EXPECT_EQ(memory::traffic().allocations, before.allocations + 1);
+}
+
+TEST(DeviceBuffer, PrefixTransfersMoveOnlyThatPrefix) {
+  const Exec& exec = test::exec();
+  DeviceBuffer<float> buffer = DeviceBuffer<float>::from_host(exec.backend, std::vector<float>(10, 9.0f), exec.stream);
+  upload(exec.backend, buffer.prefix(4), ramp(4), exec.stream);
+  EXPECT_EQ(download(exec.backend, buffer.prefix(4), exec.stream), ramp(4));
+  EXPECT_EQ(download(exec.backend, buffer.span().subspan(4, 1), exec.stream), std::vector<float>{9.0f});
+  EXPECT_THROW(buffer.prefix(11), Error);
+  EXPECT_THROW(buffer.prefix(-1), Error);
+  EXPECT_THROW(upload(exec.backend, buffer.prefix(3), ramp(4), exec.stream), Error);
+}
+
+// Uploads and downloads are counted on either backend (a round trip each on CUDA); empty ones cost
+// nothing and are not.
+TEST(DeviceBuffer, TransfersAreCounted) {
+  const Exec& exec = test::exec();
+  DeviceBuffer<float> buffer(exec.backend, 8);
+  const memory::Traffic before = memory::traffic();
+  buffer.copy_from_host(Span<const float>(ramp(8).data(), 8), exec.stream);
+  upload(exec.backend, buffer.prefix(0), std::vector<float>(), exec.stream);
+  (void)buffer.to_host(exec.stream);
+  (void)download(exec.backend, buffer.prefix(2), exec.stream);
+  const memory::Traffic after = memory::traffic();
+  EXPECT_EQ(after.uploads - before.uploads, 1);
+  EXPECT_EQ(after.downloads - before.downloads, 2);
+  EXPECT_EQ(after.allocations, before.allocations);
+}
+
 TEST(DeviceBuffer, NegativeSizeIsAnError) {
   EXPECT_THROW(DeviceBuffer<float>(test::exec().backend, -1), Error);
 }
