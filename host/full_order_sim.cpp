@@ -20,7 +20,8 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
       // Domain corners always blend PIC and FLIP (the enriched-MPM paper's transfer), so their grid
       // keeps the velocity before forces whatever the other particles use.
       grid_(exec.backend, config_.dx, config_.transfer == mpm::Transfer::PicFlip || !init.domains.empty()),
-      inputs_(exec, config_) {
+      inputs_(exec, config_),
+      speed_slot_(exec.backend, 1) {
   check_particle_tables(config_, init.material, init.dirichlet_group);
   check_particle_domains(config_, init);
   if (!init.domains.empty()) domains_.emplace(exec.backend, init.domains);
@@ -51,7 +52,7 @@ FullOrderSim::~FullOrderSim() = default;
 
 float FullOrderSim::stable_dt() {
   if (config_.fixed_dt > 0.0f) return config_.fixed_dt;
-  const float particle_speed = mpm::max_particle_speed(exec_, particles_.view());
+  const float particle_speed = mpm::max_particle_speed(exec_, particles_.view(), speed_slot_.span());
   // Deformed domains are stiffer than at rest (domain_stiffening); the last substep's state stands
   // in for this one's.
   const float wave_speed = inputs_.max_wave_speed() * (domains_ ? std::sqrt(domains_->stiffening(exec_)) : 1.0f);
@@ -116,8 +117,7 @@ void FullOrderSim::substep(float dt) {
   }
   inputs_.check_stages("", steps_, time_, [this](mpm::Stage, std::int64_t slot) {
     // Report the particle by its initial index, which is what outputs and scenes refer to.
-    std::int32_t id = 0;
-    memory::copy(&id, Backend::Cpu, particles_.view().id.data() + slot, exec_.backend, sizeof id, exec_.stream);
+    const std::int32_t id = download(exec_.backend, particles_.view().id.subspan(slot, 1), exec_.stream)[0];
     return std::pair<std::int64_t, std::string>(id, fmt::format("particle {}", id));
   });
 }

@@ -12,6 +12,7 @@
 #include "host/sim_config.h"
 #include "host/step_inputs.h"
 #include "host/tracer_set.h"
+#include "kernels/core/device_buffer.h"
 #include "kernels/core/error.h"
 #include "kernels/core/exec.h"
 #include "kernels/mpm/particle_domains.h"
@@ -85,6 +86,7 @@ class FullOrderSim {
   std::optional<mpm::ParticleDomains> domains_;
   mpm::SparseGrid grid_;
   StepInputs inputs_;
+  DeviceBuffer<float> speed_slot_;  // mpm::max_particle_speed's result
   std::optional<ImplicitGridSolver> implicit_;  // with Integrator::Implicit only
   std::unique_ptr<NeuralMaterials> neural_;     // when some material is a learned law
   std::optional<TracerSet> tracers_;

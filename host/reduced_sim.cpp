@@ -12,7 +12,6 @@
 #include "host/full_order_sim.h"
 #include "host/geometry/bounds.h"
 #include "host/stage_clock.h"
-#include "kernels/core/for_each.h"
 #include "kernels/core/gather_planes.h"
 #include "kernels/math/cholesky_solve.h"
 #include "kernels/mpm/bspline.h"
@@ -70,9 +69,17 @@ std::vector<std::int32_t> draw_distinct(const std::vector<std::int32_t>& pool, s
 
 template <class T>
 void gather(const Exec& exec, const DeviceBuffer<T>& source, Index source_count, int components,
-            const DeviceBuffer<std::int32_t>& index, DeviceBuffer<T>& destination) {
-  for_each(exec, index.size(),
-           GatherPlanes<T>{source.span(), source_count, destination.span(), index.span(), components});
+            Span<const std::int32_t> index, DeviceBuffer<T>& destination) {
+  gather_planes(exec, source.span(), source_count, components, index, destination.span());
+}
+
+// Uploads `host` into the front of `buffer`, grown when short (DeviceBuffer::ensure_size); returns that front.
+template <class T>
+Span<T> upload_front(const Exec& exec, DeviceBuffer<T>& buffer, const std::vector<T>& host) {
+  const Index n = Index(host.size());
+  buffer.ensure_size(exec.backend, n);
+  upload(exec.backend, buffer.prefix(n), host, exec.stream);
+  return buffer.prefix(n);
 }
 
 double norm(const std::vector<float>& v) {
@@ -100,13 +107,14 @@ void ReducedSim::Quadrature::allocate(Backend backend, Index n) {
     *ints = DeviceBuffer<std::int32_t>(backend, n);
 }
 
-void ReducedSim::Quadrature::resize(Backend backend, Index n) {
-  if (n > capacity) allocate(backend, n + n / 4);
+bool ReducedSim::Quadrature::resize(Backend backend, Index n) {
+  const bool grows = n > capacity;
+  if (grows) allocate(backend, n + n / 4);
   count = n;
+  return grows;
 }
 
-void ReducedSim::Quadrature::gather_from(const Exec& exec, const Quadrature& source,
-                                         const DeviceBuffer<std::int32_t>& index) {
+void ReducedSim::Quadrature::gather_from(const Exec& exec, const Quadrature& source, Span<const std::int32_t> index) {
   const Index n = source.count;
   resize(exec.backend, index.size());
   gather(exec, source.x, n, 3, index, x);
@@ -127,11 +135,11 @@ mpm::ParticleView ReducedSim::Quadrature::view() {
                            Vec3Planes<float>(v.data(), n),
                            Mat3Planes<float>(C.data(), n),
                            Mat3Planes<float>(F.data(), n),
-                           mass.span(),
-                           volume0.span(),
-                           material.span(),
-                           group.span(),
-                           id.span()};
+                           mass.prefix(n),
+                           volume0.prefix(n),
+                           material.prefix(n),
+                           group.prefix(n),
+                           id.prefix(n)};
 }
 
 ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::ParticleInit& reference,
@@ -191,6 +199,8 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   first_outside_ = DeviceBuffer<std::int64_t>(backend, 1);
   xhat_ = std::move(xhat);
   xhat_device_ = DeviceBuffer<float>::from_host(backend, xhat_);
+  vhat_device_ = DeviceBuffer<float>(backend, latent_);
+  speed_slot_ = DeviceBuffer<float>(backend, 1);
 
   if (options_.quadrature == RomQuadrature::Lagrangian) {
     search_neighbours_ = wants_neighbour_search(options_, reference, config_.dx, Index(group_members_.size()));
@@ -312,7 +322,7 @@ float ReducedSim::stable_dt() const {
   return std::min(config_.max_dt, config_.cfl * config_.dx / (inputs_.max_wave_speed() + max_sample_speed_));
 }
 
-void ReducedSim::gather_reference(const DeviceBuffer<std::int32_t>& index, Quadrature& points) {
+void ReducedSim::gather_reference(Span<const std::int32_t> index, Quadrature& points) {
   const Index n = points_;
   gather(exec_, X_, n, 3, index, points.X);
   gather(exec_, mass_, n, 1, index, points.mass);
@@ -342,20 +352,20 @@ mpm::ParticleView ReducedSim::lagrangian_quadrature(Index m) {
     const Index n = points_;
     const float inverse_dx = 1.0f / config_.dx;
     evaluate_map(Vec3Planes<const float>(X_.data(), n), {Vec3Planes<float>(positions_.data(), n), {}, {}});
-    near_bases_ = DeviceBuffer<std::uint64_t>::from_host(
-        exec_.backend, rom::bases_near_samples(samples_.x.to_host(exec_.stream), m, inverse_dx), exec_.stream);
-    rom::mark_stencil_neighbours(exec_, Vec3Planes<const float>(positions_.data(), n), inverse_dx,
-                                 near_bases_.span(), marked_.span());
+    const Span<std::uint64_t> near_bases =
+        upload_front(exec_, near_bases_, rom::bases_near_samples(samples_.x.to_host(exec_.stream), m, inverse_dx));
+    rom::mark_stencil_neighbours(exec_, Vec3Planes<const float>(positions_.data(), n), inverse_dx, near_bases,
+                                 marked_.span());
     // Compacted on the host, in reference order; a device scan would spare copying n flags per substep.
     const std::vector<std::int32_t> marked = marked_.to_host(exec_.stream);
     std::vector<std::int32_t> chosen;
     for (Index p = 0; p < n; ++p)
       if (marked[std::size_t(p)]) chosen.push_back(std::int32_t(p));
     quadrature_.resize(exec_.backend, Index(chosen.size()));
-    quadrature_index_ = DeviceBuffer<std::int32_t>::from_host(exec_.backend, chosen, exec_.stream);
-    gather_reference(quadrature_index_, quadrature_);
+    const Span<const std::int32_t> index = upload_front(exec_, quadrature_index_, chosen);
+    gather_reference(index, quadrature_);
     // The positions the search saw, so P2G bins each point exactly where it was found.
-    gather(exec_, positions_, n, 3, quadrature_index_, quadrature_.x);
+    gather(exec_, positions_, n, 3, index, quadrature_.x);
     if (dg_dxhat_.size() < 3 * Index(latent_) * quadrature_.count)
       dg_dxhat_ = DeviceBuffer<float>(exec_.backend, 3 * Index(latent_) * quadrature_.capacity);
   }
@@ -444,17 +454,19 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
     }
     for (int e = 0; e < 9; ++e) jacobians[std::size_t(e * count + q)] = F[std::size_t(e * m + sample_of[std::size_t(q)])];
   }
-  if (quadrature_.count != count) {
-    quadrature_.allocate(exec_.backend, count);
-    std::vector<std::int32_t> none(static_cast<std::size_t>(count), mpm::kNoDirichletGroup), ids(none.size());
+  // The count changes nearly every substep: the buffers grow with headroom and are otherwise reused.
+  if (quadrature_.resize(exec_.backend, count)) {
+    // No Eulerian point is a material point or in a Dirichlet group; set once for the whole capacity.
+    const Index capacity = quadrature_.capacity;
+    std::vector<std::int32_t> none(static_cast<std::size_t>(capacity), mpm::kNoDirichletGroup), ids(none.size());
     std::iota(ids.begin(), ids.end(), 0);
-    quadrature_.group = DeviceBuffer<std::int32_t>::from_host(exec_.backend, none);
-    quadrature_.id = DeviceBuffer<std::int32_t>::from_host(exec_.backend, ids);
+    quadrature_.group.copy_from_host(Span<const std::int32_t>(none.data(), capacity), exec_.stream);
+    quadrature_.id.copy_from_host(Span<const std::int32_t>(ids.data(), capacity), exec_.stream);
   }
-  if (inversion_iterations_.size() < count) inversion_iterations_ = DeviceBuffer<std::int32_t>(exec_.backend, count);
-  quadrature_.x.copy_from_host(Span<const float>(points.data(), Index(points.size())), exec_.stream);
-  const DeviceBuffer<float> guess = DeviceBuffer<float>::from_host(exec_.backend, guesses, exec_.stream),
-                            guess_jacobian = DeviceBuffer<float>::from_host(exec_.backend, jacobians, exec_.stream);
+  inversion_iterations_.ensure_size(exec_.backend, count);
+  upload_front(exec_, quadrature_.x, points);
+  const Span<const float> guess = upload_front(exec_, guesses_, guesses),
+                          guess_jacobian = upload_front(exec_, guess_jacobians_, jacobians);
   rom::InversionOptions inversion;
   inversion.iterations = options_.inversion_iterations;
   inversion.tolerance = options_.inversion_tolerance * dx;
@@ -465,12 +477,13 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
                            Mat3Planes<const float>(guess_jacobian.data(), count),
                            {Vec3Planes<float>(quadrature_.X.data(), count),
                             Vec3Planes<float>(quadrature_.v.data(), count),
-                            Mat3Planes<float>(quadrature_.F.data(), count), quadrature_.mass.span(),
-                            quadrature_.volume0.span(), quadrature_.material.span(), quadrature_.status.span(),
+                            Mat3Planes<float>(quadrature_.F.data(), count), quadrature_.mass.prefix(count),
+                            quadrature_.volume0.prefix(count), quadrature_.material.prefix(count),
+                            quadrature_.status.prefix(count),
                             Span<std::int32_t>(inversion_iterations_.data(), count)});
-  const std::vector<std::int32_t> status = quadrature_.status.to_host(exec_.stream);
-  const std::vector<std::int32_t> steps = inversion_iterations_.to_host(exec_.stream);
-  const std::vector<float> mass = quadrature_.mass.to_host(exec_.stream);
+  const std::vector<std::int32_t> status = download(exec_.backend, quadrature_.status.prefix(count), exec_.stream);
+  const std::vector<std::int32_t> steps = download(exec_.backend, inversion_iterations_.prefix(count), exec_.stream);
+  const std::vector<float> mass = download(exec_.backend, quadrature_.mass.prefix(count), exec_.stream);
   last_quadrature_mass_ = 0.0;
   for (Index i = 0; i < count; ++i) {
     quadrature_used_ += status[i] == rom::kQuadratureUsed;
@@ -484,14 +497,12 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
   std::vector<std::int32_t> used;
   for (Index i = 0; i < count; ++i)
     if (status[i] == rom::kQuadratureUsed) used.push_back(std::int32_t(i));
-  used_index_ = DeviceBuffer<std::int32_t>::from_host(exec_.backend, used, exec_.stream);
-  used_quadrature_.gather_from(exec_, quadrature_, used_index_);
+  used_quadrature_.gather_from(exec_, quadrature_, upload_front(exec_, used_index_, used));
   return used_quadrature_.view();
 }
 
 void ReducedSim::substep(float dt) {
   ROMP_CHECK(dt > 0.0f && std::isfinite(dt), fmt::format("substep dt must be finite and > 0, got {}", dt));
-  const Backend backend = exec_.backend;
   const Index n = points_;
   const int r = latent_;
   const mpm::StepParams step = inputs_.at(time_, dt);
@@ -502,15 +513,14 @@ void ReducedSim::substep(float dt) {
     const std::vector<std::int32_t> chosen = choose_samples();
     m = Index(chosen.size());
     resize_samples(m);
-    sample_index_ = DeviceBuffer<std::int32_t>::from_host(backend, chosen, exec_.stream);
-    gather_reference(sample_index_, samples_);
+    gather_reference(upload_front(exec_, sample_index_, chosen), samples_);
   });
 
   // Alg. 3 / 4: the kinematics at x̂_n, v̂_n of the samples and of the quadrature points.
   mpm::ParticleView quadrature;
   timed([&] {
     xhat_device_.copy_from_host(Span<const float>(xhat_.data(), r), exec_.stream);
-    vhat_device_ = DeviceBuffer<float>::from_host(backend, vhat_, exec_.stream);
+    vhat_device_.copy_from_host(Span<const float>(vhat_.data(), r), exec_.stream);
     evaluate_map(Vec3Planes<const float>(samples_.X.data(), m),
                  {Vec3Planes<float>(samples_.x.data(), m), Mat3Planes<float>(samples_.F.data(), m),
                   sample_dg_dxhat_.span()});
@@ -518,9 +528,10 @@ void ReducedSim::substep(float dt) {
                                   Vec3Planes<float>(samples_.v.data(), m));
     quadrature = options_.quadrature == RomQuadrature::Lagrangian ? lagrangian_quadrature(m) : eulerian_quadrature(m);
   });
-  check_inside_domain(samples_.x, m, &sample_index_);
+  check_inside_domain(samples_.x, m, sample_index_.prefix(m));
   if (options_.quadrature == RomQuadrature::Lagrangian)
-    check_inside_domain(quadrature_.x, quadrature_.count, search_neighbours_ ? &quadrature_index_ : nullptr);
+    check_inside_domain(quadrature_.x, quadrature_.count,
+                        search_neighbours_ ? quadrature_index_.prefix(quadrature_.count) : Span<const std::int32_t>());
   // Alg. 5: P2G from the quadrature points, the grid update, G2P at the samples. The grid is built from
   // the samples too: an Eulerian sample is not a quadrature point (ROM paper, Fig. 6), and near the body's
   // surface its stencil can reach a block no quadrature point touches. G2P must find that block active
@@ -534,11 +545,11 @@ void ReducedSim::substep(float dt) {
   timed([&] { mpm::update_grid(exec_, grid, step); });
   const mpm::ParticleView samples = samples_.view();
   timed([&] { mpm::grid_to_particle(exec_, samples, grid, step); });
-  inputs_.check_stages("reduced simulation: ", steps_, time_, [this](mpm::Stage stage, std::int64_t slot) {
+  inputs_.check_stages("reduced simulation: ", steps_, time_, [this, m](mpm::Stage stage, std::int64_t slot) {
     // G2P runs over the samples and P2G over the quadrature points, reported as their material points;
     // an Eulerian quadrature point is none (index -1), so it is named by where it is.
     if (stage == mpm::Stage::G2P) {
-      const std::int64_t point = sample_index_.to_host(exec_.stream)[std::size_t(slot)];
+      const std::int64_t point = download(exec_.backend, sample_index_.prefix(m).subspan(slot, 1), exec_.stream)[0];
       return std::pair<std::int64_t, std::string>(point, fmt::format("sample material point {}", point));
     }
     if (options_.quadrature == RomQuadrature::Eulerian) {
@@ -549,7 +560,10 @@ void ReducedSim::substep(float dt) {
                           "{:.4g}, {:.4g}) m",
                           x[0], x[1], x[2], X[0], X[1], X[2]));
     }
-    const std::int64_t point = search_neighbours_ ? quadrature_index_.to_host(exec_.stream)[std::size_t(slot)] : slot;
+    const std::int64_t point =
+        search_neighbours_ ? download(exec_.backend, quadrature_index_.prefix(quadrature_.count).subspan(slot, 1),
+                                      exec_.stream)[0]
+                           : slot;
     return std::pair<std::int64_t, std::string>(point, fmt::format("material point {} (a quadrature point)", point));
   });
 
@@ -572,7 +586,7 @@ void ReducedSim::substep(float dt) {
     vhat_ = std::move(vhat);
   });
   check_latent("the projection");
-  max_sample_speed_ = mpm::max_particle_speed(exec_, samples);
+  max_sample_speed_ = mpm::max_particle_speed(exec_, samples, speed_slot_.span());
   time_ += dt;
   ++steps_;
 }
@@ -623,7 +637,7 @@ void ReducedSim::check_latent(const char* stage) const {
                          steps_, mpm::Stage::G2P, -1);
 }
 
-void ReducedSim::check_inside_domain(const DeviceBuffer<float>& x, Index count, const DeviceBuffer<std::int32_t>* index) {
+void ReducedSim::check_inside_domain(const DeviceBuffer<float>& x, Index count, Span<const std::int32_t> index) {
   // The band the full-order step keeps particles in (mpm::kept_inside_domain).
   Vec3<float> low, high;
   for (int a = 0; a < 3; ++a) {
@@ -635,7 +649,7 @@ void ReducedSim::check_inside_domain(const DeviceBuffer<float>& x, Index count, 
   rom::find_point_outside(exec_, Vec3Planes<const float>(x.data(), count), low, high, first_outside_.span());
   const std::int64_t slot = first_outside_.to_host(exec_.stream)[0];
   if (slot == rom::kNoPointOutside) return;
-  const std::int64_t point = index ? index->to_host(exec_.stream)[std::size_t(slot)] : slot;
+  const std::int64_t point = index.empty() ? slot : download(exec_.backend, index.subspan(slot, 1), exec_.stream)[0];
   const std::vector<float> positions = x.to_host(exec_.stream);
   throw NonFiniteError(
       fmt::format("reduced simulation: material point {} decodes to ({:.4g}, {:.4g}, {:.4g}) m at step {} (t = {:.6g} "
@@ -658,7 +672,7 @@ ReducedSim::DecodedState ReducedSim::decode(const std::vector<float>& X_host) {
   const DeviceBuffer<float> X = DeviceBuffer<float>::from_host(backend, X_host, exec_.stream);
   DeviceBuffer<float> x(backend, 3 * n), F(backend, 9 * n), v(backend, 3 * n), dg(backend, 3 * Index(latent_) * n);
   xhat_device_.copy_from_host(Span<const float>(xhat_.data(), latent_), exec_.stream);
-  vhat_device_ = DeviceBuffer<float>::from_host(backend, vhat_, exec_.stream);
+  vhat_device_.copy_from_host(Span<const float>(vhat_.data(), latent_), exec_.stream);
   evaluate_map(Vec3Planes<const float>(X.data(), n),
                {Vec3Planes<float>(x.data(), n), Mat3Planes<float>(F.data(), n), dg.span()});
   rom::latent_to_point_velocity(exec_, latent_, dg.span(), vhat_device_.span(), Vec3Planes<float>(v.data(), n));

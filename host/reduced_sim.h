@@ -133,9 +133,9 @@ class ReducedSim {
   // Throws NonFiniteError when x̂ or v̂ is not finite after `stage`.
   void check_latent(const char* stage) const;
   // Throws NonFiniteError naming the material point when one of the `count` positions in `x` (3 planes: the
-  // samples' or the Lagrangian quadrature's, `index` their material points, or none for every point) lies
-  // outside the grid's interior: x̂ has gone where the map no longer describes the body.
-  void check_inside_domain(const DeviceBuffer<float>& x, Index count, const DeviceBuffer<std::int32_t>* index);
+  // samples' or the Lagrangian quadrature's, `index` their material points, or empty for every point)
+  // lies outside the grid's interior: x̂ has gone where the map no longer describes the body.
+  void check_inside_domain(const DeviceBuffer<float>& x, Index count, Span<const std::int32_t> index);
 
   Exec exec_;
   FullOrderConfig config_;
@@ -159,18 +159,22 @@ class ReducedSim {
     DeviceBuffer<float> x, X, v, C, F, mass, volume0;
     DeviceBuffer<std::int32_t> material, group, id, status;
     void allocate(Backend backend, Index n);
-    // count = n, reallocating (with headroom) only when n exceeds the capacity.
-    void resize(Backend backend, Index n);
+    // count = n, reallocating (with headroom) only when n exceeds the capacity; returns whether it did
+    // (the contents are then uninitialised, C aside).
+    bool resize(Backend backend, Index n);
     // These points: the points `index` of `source` (all but C, which stays 0, and status).
-    void gather_from(const Exec& exec, const Quadrature& source, const DeviceBuffer<std::int32_t>& index);
+    void gather_from(const Exec& exec, const Quadrature& source, Span<const std::int32_t> index);
     mpm::ParticleView view();
   } quadrature_;
   // Eulerian: the quadrature points inside the body, gathered for P2G (their indices in quadrature_).
   Quadrature used_quadrature_;
+  // Buffers refilled every substep are grown to the largest count so far and reused (an allocation on
+  // CUDA synchronises the device); this step's elements are their prefix.
   DeviceBuffer<std::int32_t> used_index_;
   DeviceBuffer<std::int32_t> inversion_iterations_;  // per Eulerian point, this substep
+  DeviceBuffer<float> guesses_, guess_jacobians_;    // Eulerian: each point's first X and ∂g/∂X there
   // The reference state (X, mass, volume, material, Dirichlet group, id) of the material points `index`.
-  void gather_reference(const DeviceBuffer<std::int32_t>& index, Quadrature& points);
+  void gather_reference(Span<const std::int32_t> index, Quadrature& points);
   DeviceBuffer<float> dg_dxhat_;  // Lagrangian: ∂g/∂x̂ at the quadrature points
   // Lagrangian neighbour search: g's positions at every point, the base nodes near the samples, the
   // points marked as neighbours and their indices.
@@ -188,6 +192,7 @@ class ReducedSim {
   rom::ReferenceOccupancy occupancy_;
   DeviceBuffer<float> densities_;
   DeviceBuffer<float> xhat_device_, vhat_device_;
+  DeviceBuffer<float> speed_slot_;  // mpm::max_particle_speed's result
   DeviceBuffer<double> system_;
 
   std::vector<float> xhat_, vhat_, xhat_previous_;

@@ -12,9 +12,12 @@
 namespace romp {
 namespace {
 
+// The first host.size() elements of `buffer`, which holds as many as the scene can make active at once.
 template <class T>
-DeviceBuffer<T> upload(Backend backend, const std::vector<T>& host) {
-  return DeviceBuffer<T>::from_host(backend, host);
+Span<T> upload_active(const Exec& exec, DeviceBuffer<T>& buffer, const std::vector<T>& host) {
+  const Span<T> active = buffer.prefix(Index(host.size()));
+  upload(exec.backend, active, host, exec.stream);
+  return active;
 }
 
 }  // namespace
@@ -45,6 +48,11 @@ StepInputs::StepInputs(const Exec& exec, const FullOrderConfig& config) : exec_(
     max_wave_speed_ = std::max(max_wave_speed_, std::sqrt((m.params.lambda + 2.0f * m.params.mu) / m.density));
   }
   upload_materials(0.0);
+  // Sized once for every collider, motion and load the scene has, so a substep uploads into them
+  // without allocating (an allocation synchronises a CUDA device).
+  colliders_ = DeviceBuffer<mpm::ColliderState>(exec.backend, Index(config.colliders.size()));
+  dirichlet_ = DeviceBuffer<mpm::RigidMotion>(exec.backend, Index(config.dirichlet.size()));
+  loads_ = DeviceBuffer<mpm::RegionLoad>(exec.backend, Index(config.loads.size()));
   first_failure_ = DeviceBuffer<std::int64_t>(exec.backend, mpm::kStageCount);
 }
 
@@ -58,7 +66,7 @@ void StepInputs::upload_materials(double time) {
     if (off[i]) params.mu = params.lambda = 0.0f;
     table.push_back(params);
   }
-  materials_ = upload(exec_.backend, table);
+  materials_ = DeviceBuffer<material::MaterialParams<float>>::from_host(exec_.backend, table, exec_.stream);
   strength_off_ = std::move(off);
 }
 
@@ -81,9 +89,6 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   std::vector<mpm::RegionLoad> loads;
   for (const RegionLoadSpec& spec : config.loads)
     if (time >= spec.start && time < spec.end) loads.push_back(spec.load);
-  colliders_ = upload(exec_.backend, colliders);
-  dirichlet_ = upload(exec_.backend, motions);
-  loads_ = upload(exec_.backend, loads);
   const std::vector<std::int64_t> no_failure(mpm::kStageCount, mpm::kNoFailure);
   first_failure_.copy_from_host(Span<const std::int64_t>(no_failure.data(), mpm::kStageCount), exec_.stream);
 
@@ -97,9 +102,9 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   step.wall_contact = config.wall_contact;
   step.wall_friction = config.wall_friction;
   step.materials = materials_.span();
-  step.colliders = colliders_.span();
-  step.dirichlet = dirichlet_.span();
-  step.loads = loads_.span();
+  step.colliders = upload_active(exec_, colliders_, colliders);
+  step.dirichlet = upload_active(exec_, dirichlet_, motions);
+  step.loads = upload_active(exec_, loads_, loads);
   step.first_failure = first_failure_.span();
   return step;
 }

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 
+#include "kernels/core/exec.h"
 #include "kernels/core/hd.h"
 #include "kernels/core/span.h"
 
@@ -22,5 +23,11 @@ struct GatherPlanes {
     for (int c = 0; c < components; ++c) destination[c * m + i] = source[c * source_count + index[i]];
   }
 };
+
+// GatherPlanes launched on exec's backend, for host code compiled as C++ (a launch on CUDA must come
+// from a file nvcc compiles). Instantiated for float and std::int32_t.
+template <class T>
+void gather_planes(const Exec& exec, Span<const T> source, Index source_count, int components,
+                   Span<const std::int32_t> index, Span<T> destination);
 
 }  // namespace romp

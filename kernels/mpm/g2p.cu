@@ -1,5 +1,6 @@
 // G2P: particles gather velocity and its gradient, move, and update F; Dirichlet groups move rigidly.
 #include "kernels/core/atomic.h"
+#include "kernels/core/device_buffer.h"
 #include "kernels/core/for_each.h"
 #include "kernels/math/finite.h"
 #include "kernels/mpm/stencil_nodes.h"
@@ -90,11 +91,11 @@ void record_non_finite_deformation(const Exec& exec, const ParticleView& particl
            RecordNonFiniteDeformation{Mat3Planes<const float>(particles.F), step.first_failure.subspan(int(stage), 1)});
 }
 
-float max_particle_speed(const Exec& exec, const ParticleView& particles) {
-  DeviceBuffer<float> result(exec.backend, 1);
-  result.fill_zero(exec.stream);
-  for_each(exec, particles.count, MaxSpeed{Vec3Planes<const float>(particles.v), result.span()});
-  return result.to_host(exec.stream)[0];
+float max_particle_speed(const Exec& exec, const ParticleView& particles, Span<float> slot) {
+  ROMP_CHECK(slot.size() == 1, "max_particle_speed reduces into one element");
+  memory::fill_zero(slot.data(), exec.backend, sizeof(float), exec.stream);
+  for_each(exec, particles.count, MaxSpeed{Vec3Planes<const float>(particles.v), slot});
+  return download(exec.backend, slot, exec.stream)[0];
 }
 
 }  // namespace romp::mpm

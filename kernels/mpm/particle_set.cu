@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <utility>
 
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
@@ -58,39 +59,58 @@ struct ScatterPlanes {
   }
 };
 
+// `buffer` as `n` elements: reallocated only when its size differs (the particle count is fixed).
 template <class T>
-void permute(const Exec& exec, DeviceBuffer<T>& planes, int components, const DeviceBuffer<std::int32_t>& order) {
-  DeviceBuffer<T> sorted(planes.backend(), planes.size());
-  for_each(exec, order.size(), GatherPlanes<T>{planes.span(), order.size(), sorted.span(), order.span(), components});
-  planes = std::move(sorted);
+DeviceBuffer<T>& sized(DeviceBuffer<T>& buffer, Backend backend, Index n) {
+  if (buffer.size() != n) buffer = DeviceBuffer<T>(backend, n);
+  return buffer;
 }
 
-// The start of every run of equal keys in sorted `keys` and n at the end, into `starts` (n + 1 entries
-// suffice); returns the number of runs.
-Index run_starts(const Exec& exec, const DeviceBuffer<std::uint64_t>& keys, DeviceBuffer<std::int32_t>& starts) {
+// planes ← planes gathered through `order`, by way of `spare` (same size afterwards: the two swap).
+template <class T>
+void permute(const Exec& exec, DeviceBuffer<T>& planes, int components, Span<const std::int32_t> order,
+             DeviceBuffer<T>& spare) {
+  sized(spare, planes.backend(), planes.size());
+  for_each(exec, order.size(), GatherPlanes<T>{planes.span(), order.size(), spare.span(), order, components});
+  std::swap(planes, spare);
+}
+
+#if defined(__CUDACC__)
+// CUB's temporary storage of `bytes`, grown when short.
+void* temporary_storage(BlockSortScratch& scratch, Backend backend, std::size_t bytes) {
+  scratch.temporary.ensure_size(backend, Index(bytes));
+  return scratch.temporary.data();
+}
+#endif
+
+// The start of every run of equal keys in sorted scratch.keys and n at the end, into `starts` (n + 1
+// entries suffice); returns the number of runs.
+Index run_starts(const Exec& exec, BlockSortScratch& scratch, DeviceBuffer<std::int32_t>& starts) {
+  const DeviceBuffer<std::uint64_t>& keys = scratch.keys;
   const Index n = keys.size();
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
     // Run lengths, then their exclusive sum over all n slots: entry `runs` is then Σ lengths = n.
-    DeviceBuffer<std::uint64_t> unique(keys.backend(), n);
-    DeviceBuffer<std::int32_t> lengths(keys.backend(), n + 1), runs(keys.backend(), 1);
+    const Backend backend = keys.backend();
+    DeviceBuffer<std::uint64_t>& unique = sized(scratch.unique_keys, backend, n);
+    DeviceBuffer<std::int32_t>& lengths = sized(scratch.run_lengths, backend, n + 1);
+    DeviceBuffer<std::int32_t>& runs = sized(scratch.run_count, backend, 1);
     lengths.fill_zero(exec.stream);
     std::size_t bytes = 0;
     ROMP_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(nullptr, bytes, keys.data(), unique.data(), lengths.data(),
                                                        runs.data(), int(n), exec.stream));
-    DeviceBuffer<unsigned char> temporary(keys.backend(), Index(bytes));
-    ROMP_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(temporary.data(), bytes, keys.data(), unique.data(),
-                                                       lengths.data(), runs.data(), int(n), exec.stream));
+    ROMP_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(temporary_storage(scratch, backend, bytes), bytes, keys.data(),
+                                                       unique.data(), lengths.data(), runs.data(), int(n),
+                                                       exec.stream));
     const Index count = runs.to_host(exec.stream)[0];
     // Entries past the runs hold whatever Encode left there: zero them so the sum stops growing at n.
-    memory::fill_zero(lengths.data() + count, keys.backend(), std::size_t(n + 1 - count) * sizeof(std::int32_t),
+    memory::fill_zero(lengths.data() + count, backend, std::size_t(n + 1 - count) * sizeof(std::int32_t),
                       exec.stream);
     bytes = 0;
     ROMP_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, lengths.data(), starts.data(), int(n + 1),
                                                   exec.stream));
-    DeviceBuffer<unsigned char> scan_temporary(keys.backend(), Index(bytes));
-    ROMP_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(scan_temporary.data(), bytes, lengths.data(), starts.data(),
-                                                  int(n + 1), exec.stream));
+    ROMP_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(temporary_storage(scratch, backend, bytes), bytes, lengths.data(),
+                                                  starts.data(), int(n + 1), exec.stream));
     return count;
 #else
     throw Error("run_starts on CUDA from a translation unit not compiled by nvcc");
@@ -103,24 +123,26 @@ Index run_starts(const Exec& exec, const DeviceBuffer<std::uint64_t>& keys, Devi
   return count;
 }
 
-void sort_pairs(const Exec& exec, DeviceBuffer<std::uint64_t>& keys, DeviceBuffer<std::int32_t>& order,
-                const DeviceBuffer<std::int32_t>& id) {
+// Sorts scratch.order by scratch.keys, and on CUDA the keys with it (the CPU sort orders `order` alone).
+void sort_pairs(const Exec& exec, BlockSortScratch& scratch, const DeviceBuffer<std::int32_t>& id) {
+  DeviceBuffer<std::uint64_t>& keys = scratch.keys;
+  DeviceBuffer<std::int32_t>& order = scratch.order;
   const Index n = keys.size();
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
-    DeviceBuffer<std::uint64_t> keys_out(keys.backend(), n);
-    DeviceBuffer<std::int32_t> order_out(order.backend(), n);
+    const Backend backend = keys.backend();
+    DeviceBuffer<std::uint64_t>& keys_out = sized(scratch.sorted_keys, backend, n);
+    DeviceBuffer<std::int32_t>& order_out = sized(scratch.sorted_order, backend, n);
     constexpr int kKeyBitCount = 3 * kKeyBits;  // the tag bit is the same for every key
     std::size_t temporary_bytes = 0;
     ROMP_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, temporary_bytes, keys.data(), keys_out.data(),
                                                     order.data(), order_out.data(), int(n), 0, kKeyBitCount,
                                                     exec.stream));
-    DeviceBuffer<unsigned char> temporary(keys.backend(), Index(temporary_bytes));
-    ROMP_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(temporary.data(), temporary_bytes, keys.data(), keys_out.data(),
-                                                    order.data(), order_out.data(), int(n), 0, kKeyBitCount,
-                                                    exec.stream));
-    keys = std::move(keys_out);
-    order = std::move(order_out);
+    ROMP_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(temporary_storage(scratch, backend, temporary_bytes),
+                                                    temporary_bytes, keys.data(), keys_out.data(), order.data(),
+                                                    order_out.data(), int(n), 0, kKeyBitCount, exec.stream));
+    std::swap(keys, keys_out);
+    std::swap(order, order_out);
     return;
 #else
     throw Error("sort_pairs on CUDA from a translation unit not compiled by nvcc");
@@ -192,23 +214,25 @@ std::size_t ParticleSet::bytes() const {
 
 void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
   const Index n = count_;
-  DeviceBuffer<std::uint64_t> keys(backend_, n);
-  DeviceBuffer<std::int32_t> order(backend_, n);
+  BlockSortScratch& scratch = sort_scratch_;
+  DeviceBuffer<std::uint64_t>& keys = sized(scratch.keys, backend_, n);
+  DeviceBuffer<std::int32_t>& order = sized(scratch.order, backend_, n);
   for_each(exec, n, BlockKeyOfParticle{Vec3Planes<const float>(x_.data(), n), keys.span(), order.span(), inverse_dx});
-  sort_pairs(exec, keys, order, id_);
-  if (!exec.is_cuda()) permute(exec, keys, 1, order);  // the CPU sort orders `order` alone
+  sort_pairs(exec, scratch, id_);
+  if (!exec.is_cuda()) permute(exec, keys, 1, order.span(), scratch.sorted_keys);  // the CPU sort orders `order` alone
   if (block_starts_.size() < n + 1) block_starts_ = DeviceBuffer<std::int32_t>(backend_, n + 1);
-  block_count_ = run_starts(exec, keys, block_starts_);
-  permute(exec, x_, 3, order);
-  permute(exec, v_, 3, order);
-  permute(exec, C_, 9, order);
-  permute(exec, F_, 9, order);
-  permute(exec, mass_, 1, order);
-  permute(exec, volume0_, 1, order);
-  permute(exec, material_, 1, order);
-  permute(exec, dirichlet_group_, 1, order);
-  permute(exec, id_, 1, order);
-  if (domain_.size() > 0) permute(exec, domain_, 1, order);
+  block_count_ = run_starts(exec, scratch, block_starts_);
+  const Span<const std::int32_t> by_block = order.span();
+  permute(exec, x_, 3, by_block, scratch.planes3);
+  permute(exec, v_, 3, by_block, scratch.planes3);
+  permute(exec, C_, 9, by_block, scratch.planes9);
+  permute(exec, F_, 9, by_block, scratch.planes9);
+  permute(exec, mass_, 1, by_block, scratch.planes1);
+  permute(exec, volume0_, 1, by_block, scratch.planes1);
+  permute(exec, material_, 1, by_block, scratch.ints);
+  permute(exec, dirichlet_group_, 1, by_block, scratch.ints);
+  permute(exec, id_, 1, by_block, scratch.ints);
+  if (domain_.size() > 0) permute(exec, domain_, 1, by_block, scratch.ints);
 }
 
 void ParticleSet::release_dirichlet_group(const Exec& exec, std::int32_t group) {

@@ -44,6 +44,17 @@ struct ParticleInit {
   Index count() const { return Index(mass.size()); }
 };
 
+// ParticleSet::sort_by_block's working storage, kept between sorts so that a sort allocates nothing
+// after the first (on CUDA an allocation synchronises the device). Each particle array is permuted into
+// the spare of its shape (1, 3 or 9 planes of floats, or integers), and the two swap.
+struct BlockSortScratch {
+  DeviceBuffer<std::uint64_t> keys, sorted_keys, unique_keys;
+  DeviceBuffer<std::int32_t> order, sorted_order, run_lengths, run_count;
+  DeviceBuffer<unsigned char> temporary;  // CUB's
+  DeviceBuffer<float> planes1, planes3, planes9;
+  DeviceBuffer<std::int32_t> ints;
+};
+
 class ParticleSet {
  public:
   ParticleSet(Backend backend, const ParticleInit& init);
@@ -85,6 +96,7 @@ class ParticleSet {
   DeviceBuffer<std::int32_t> material_, dirichlet_group_, id_, domain_;
   DeviceBuffer<std::int32_t> block_starts_;
   Index block_count_ = 0;
+  BlockSortScratch sort_scratch_;
 };
 
 }  // namespace romp::mpm

@@ -143,7 +143,8 @@ ROMP_HD inline void store_moved_particle(const ParticleView& particles, const St
   particles.F.store(p, F);
 }
 
-// The largest particle speed (for the CFL condition); synchronises with the host.
-float max_particle_speed(const Exec& exec, const ParticleView& particles);
+// The largest particle speed (for the CFL condition), reduced in `slot` (one element of the backend's
+// memory, kept by the caller so that a substep allocates nothing); synchronises with the host.
+float max_particle_speed(const Exec& exec, const ParticleView& particles, Span<float> slot);
 
 }  // namespace romp::mpm

@@ -10,6 +10,7 @@
 
 #include "host/full_order_sim.h"
 #include "host/mechanical_energy.h"
+#include "kernels/core/memory.h"
 #include "kernels/math/rotation.h"
 #include "kernels/mpm/bspline.h"
 #include "tests/host/mpm_test_scenes.h"
@@ -422,6 +423,31 @@ TEST(FullOrderSim, FallingBodyRestsOnAStaticCollider) {
   // reaches 1.5 cells, so the body comes to rest on a gap of at most 1.5 dx above the surface.
   EXPECT_GT(lowest, 0.35f);
   EXPECT_LE(lowest, 0.35f + 1.5f * dx);
+}
+
+// A substep reuses its buffers (the sort's scratch, the step's colliders and loads, the speed's slot):
+// on CUDA an allocation synchronises the device. Its round trips are the few the host must make.
+TEST(FullOrderSim, SubstepsAllocateNothingOnceRunning) {
+  const float dx = 1.0f / 32.0f;
+  FullOrderConfig config = falling_jelly_config(dx);
+  config.fixed_dt = 0.0f;  // the CFL step reads the particles' largest speed each substep
+  mpm::ColliderState table;
+  table.shape = mpm::ColliderShape::Box;
+  table.center = Vec3<float>(0.5f, 0.3f, 0.5f);
+  table.half_extents = Vec3<float>(0.2f, 0.05f, 0.2f);
+  config.colliders = {ColliderSpec{table}};
+  FullOrderSim sim(test::exec(), config,
+                   test::lattice_box({0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}, dx, 2, kJellyDensity));
+  for (int s = 0; s < 2; ++s) sim.substep(sim.stable_dt());
+  const memory::Traffic before = memory::traffic();
+  constexpr int kSubsteps = 10;
+  for (int s = 0; s < kSubsteps; ++s) sim.substep(sim.stable_dt());
+  const memory::Traffic after = memory::traffic();
+  EXPECT_EQ(after.allocations - before.allocations, 0);
+  // Up: the collider moved to the substep's time, the failure slots' reset. Down: the largest speed,
+  // the grid's block count, the failure slots.
+  EXPECT_EQ(after.uploads - before.uploads, 2 * kSubsteps);
+  EXPECT_EQ(after.downloads - before.downloads, 3 * kSubsteps);
 }
 
 // Time windows: a Dirichlet group holds the body still until its end, then releases it to free

@@ -6,12 +6,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "host/material_library.h"
 #include "host/reduced_sim.h"
+#include "kernels/core/memory.h"
 #include "kernels/mpm/bspline.h"
 #include "tests/host/mpm_test_scenes.h"
 #include "tests/host/rom_test_maps.h"
@@ -155,6 +157,64 @@ TEST(ReducedSim, EulerianQuadratureInvertsOnlyTheSamplesNeighbours) {
   EXPECT_GT(neighbours.newton_steps, 0);
   EXPECT_LT(neighbours.newton_steps, every.newton_steps);  // the dropped points were inverted too
   expect_same_xhat(neighbours.xhat, every.xhat);
+}
+
+// What a substep costs the host once its buffers have grown (memory::traffic counts it on either
+// backend). On a GPU every allocation synchronises the device and every transfer is a blocking round
+// trip: at the real-time step of the paper's tower (0.255 ms) a few dozen of either would use it all
+// (bench/results/gpu-notes.md).
+struct SubstepTraffic {
+  int allocating_substeps = 0;
+  std::int64_t largest_uploads = 0, largest_downloads = 0;
+};
+SubstepTraffic substep_traffic(RomQuadrature quadrature, NeighbourSearch search) {
+  const mpm::ParticleInit body = test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2,
+                                                   1000.0f);
+  ReducedOptions options;
+  options.quadrature = quadrature;
+  options.samples = 3;
+  options.seed = 5;
+  options.neighbour_search = search;
+  ReducedSim sim(test::exec(), falling_config(), body, test::small_nonlinear_map(0.25f, 0.5f, 0.003f),
+                 {0.0f, 0.0f, 0.0f}, options);
+  for (int s = 0; s < 3; ++s) sim.substep(kDt);
+  SubstepTraffic traffic;
+  for (int s = 0; s < 12; ++s) {
+    const memory::Traffic before = memory::traffic();
+    sim.substep(kDt);
+    const memory::Traffic after = memory::traffic();
+    traffic.allocating_substeps += after.allocations > before.allocations;
+    traffic.largest_uploads = std::max(traffic.largest_uploads, after.uploads - before.uploads);
+    traffic.largest_downloads = std::max(traffic.largest_downloads, after.downloads - before.downloads);
+  }
+  return traffic;
+}
+
+TEST(ReducedSim, SubstepsReuseTheirBuffersAndMakeFewRoundTrips) {
+  const SubstepTraffic every = substep_traffic(RomQuadrature::Lagrangian, NeighbourSearch::Never);
+  EXPECT_EQ(every.allocating_substeps, 0);
+  // Up: the failure slots' reset, the sample indices, x̂, v̂, the slots of the two domain checks
+  // (samples, quadrature). Down: the grid's block count, the failure slots, the projection's system,
+  // the largest speed, the two domain checks' results.
+  EXPECT_LE(every.largest_uploads, 6);
+  EXPECT_LE(every.largest_downloads, 6);
+
+  // The neighbours' and the Eulerian points' counts vary with the samples: their buffers grow with
+  // headroom now and then (not in these 12 substeps), where they were allocated every substep.
+  const SubstepTraffic neighbours = substep_traffic(RomQuadrature::Lagrangian, NeighbourSearch::Always);
+  EXPECT_LE(neighbours.allocating_substeps, 2);
+  // And: the base nodes near the samples and the neighbours' indices up, the samples' x and the
+  // neighbour flags down (the host compacts them).
+  EXPECT_LE(neighbours.largest_uploads, 8);
+  EXPECT_LE(neighbours.largest_downloads, 8);
+
+  const SubstepTraffic eulerian = substep_traffic(RomQuadrature::Eulerian, NeighbourSearch::Auto);
+  EXPECT_LE(eulerian.allocating_substeps, 2);
+  // As every point's, less the quadrature's domain check; and: the points, their guesses and Jacobians,
+  // the used points' indices up; the samples' X, x and F, the points' status, iteration counts and mass
+  // down (the host builds the points around the samples and counts them).
+  EXPECT_LE(eulerian.largest_uploads, 9);
+  EXPECT_LE(eulerian.largest_downloads, 11);
 }
 
 // Auto searches only where the samples reach under half the body: never with every point sampled, nor
