@@ -59,6 +59,13 @@ void for_each_cuda(const Exec& exec, Index n, const F& functor) {
 
 template <class F>
 void for_each(const Exec& exec, Index n, const F& functor) {
+#if defined(ROMP_WITH_CUDA) && !defined(__CUDACC__)
+  // In a build with the CUDA backend, a launch from a file nvcc does not compile would throw at run
+  // time on a GPU only: refuse it at compile time, where CI (nvcc, no GPU) sees it.
+  static_assert(sizeof(F) == 0,
+                "romp::for_each in a translation unit nvcc does not compile: move the launch to a .cu file "
+                "listed with romp_single_source()");
+#endif
   if (n <= 0) return;
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
