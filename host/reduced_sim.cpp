@@ -12,6 +12,7 @@
 #include "host/full_order_sim.h"
 #include "host/geometry/bounds.h"
 #include "host/stage_clock.h"
+#include "kernels/core/fill.h"
 #include "kernels/core/gather_planes.h"
 #include "kernels/math/cholesky_solve.h"
 #include "kernels/mpm/bspline.h"
@@ -644,8 +645,7 @@ void ReducedSim::check_inside_domain(const DeviceBuffer<float>& x, Index count, 
     low[a] = mpm::kDomainMarginCells * config_.dx;
     high[a] = (float(config_.domain_cells[a]) - mpm::kDomainMarginCells) * config_.dx;
   }
-  const std::vector<std::int64_t> none{rom::kNoPointOutside};
-  first_outside_.copy_from_host(Span<const std::int64_t>(none.data(), 1), exec_.stream);
+  fill(exec_, first_outside_.span(), rom::kNoPointOutside);
   rom::find_point_outside(exec_, Vec3Planes<const float>(x.data(), count), low, high, first_outside_.span());
   const std::int64_t slot = first_outside_.to_host(exec_.stream)[0];
   if (slot == rom::kNoPointOutside) return;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernels/core/fill.h"
 #include "kernels/math/rotation.h"
 
 namespace romp {
@@ -89,8 +90,7 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   std::vector<mpm::RegionLoad> loads;
   for (const RegionLoadSpec& spec : config.loads)
     if (time >= spec.start && time < spec.end) loads.push_back(spec.load);
-  const std::vector<std::int64_t> no_failure(mpm::kStageCount, mpm::kNoFailure);
-  first_failure_.copy_from_host(Span<const std::int64_t>(no_failure.data(), mpm::kStageCount), exec_.stream);
+  fill(exec_, first_failure_.span(), mpm::kNoFailure);
 
   mpm::StepParams step;
   step.dt = dt;

@@ -1,9 +1,11 @@
 // romp::for_each visits every index exactly once, on the backend the test binary was started with.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <vector>
 
 #include "kernels/core/device_buffer.h"
+#include "kernels/core/fill.h"
 #include "kernels/core/for_each.h"
 #include "tests/support/test_exec.h"
 
@@ -51,6 +53,17 @@ TEST(ForEach, SameResultForEveryCpuThreadCount) {
     const std::vector<double> host = out.to_host(exec.stream);
     for (Index i = 0; i < n; ++i) ASSERT_EQ(host[i], double(i) * double(i)) << "threads " << threads;
   }
+}
+
+// fill() writes its value into exactly the span it is given, without a host transfer.
+TEST(Fill, SetsEveryElementOfTheSpanAndNoOther) {
+  const Exec& exec = test::exec();
+  DeviceBuffer<std::int64_t> slots(exec.backend, 5);
+  slots.fill_zero(exec.stream);
+  const memory::Traffic before = memory::traffic();
+  fill(exec, slots.span().subspan(1, 3), INT64_MAX);
+  EXPECT_EQ(memory::traffic().uploads, before.uploads);
+  EXPECT_EQ(slots.to_host(exec.stream), (std::vector<std::int64_t>{0, INT64_MAX, INT64_MAX, INT64_MAX, 0}));
 }
 
 }  // namespace
