@@ -208,11 +208,14 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
     if (search_neighbours_) {
       positions_ = DeviceBuffer<float>(backend, 3 * n);
       marked_ = DeviceBuffer<std::int32_t>(backend, n);
+      quadrature_index_ = DeviceBuffer<std::int32_t>(backend, n);
     } else {
       every_point_quadrature();
     }
   } else {
     build_occupancy(reference);
+    tally_ = DeviceBuffer<rom::QuadratureTally>(backend, 1);
+    tally_.fill_zero(exec_.stream);
   }
 
   // v̂ at t = 0: the least-squares fit of the initial velocities over every material point (Eq. 28).
@@ -357,13 +360,10 @@ mpm::ParticleView ReducedSim::lagrangian_quadrature(Index m) {
         upload_front(exec_, near_bases_, rom::bases_near_samples(samples_.x.to_host(exec_.stream), m, inverse_dx));
     rom::mark_stencil_neighbours(exec_, Vec3Planes<const float>(positions_.data(), n), inverse_dx, near_bases,
                                  marked_.span());
-    // Compacted on the host, in reference order; a device scan would spare copying n flags per substep.
-    const std::vector<std::int32_t> marked = marked_.to_host(exec_.stream);
-    std::vector<std::int32_t> chosen;
-    for (Index p = 0; p < n; ++p)
-      if (marked[std::size_t(p)]) chosen.push_back(std::int32_t(p));
-    quadrature_.resize(exec_.backend, Index(chosen.size()));
-    const Span<const std::int32_t> index = upload_front(exec_, quadrature_index_, chosen);
+    // Compacted on the device, in reference order.
+    const Index count = select_indices_(exec_, marked_.span(), 1, quadrature_index_.span());
+    quadrature_.resize(exec_.backend, count);
+    const Span<const std::int32_t> index = quadrature_index_.prefix(count);
     gather_reference(index, quadrature_);
     // The positions the search saw, so P2G bins each point exactly where it was found.
     gather(exec_, positions_, n, 3, index, quadrature_.x);
@@ -482,23 +482,14 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
                             quadrature_.volume0.prefix(count), quadrature_.material.prefix(count),
                             quadrature_.status.prefix(count),
                             Span<std::int32_t>(inversion_iterations_.data(), count)});
-  const std::vector<std::int32_t> status = download(exec_.backend, quadrature_.status.prefix(count), exec_.stream);
-  const std::vector<std::int32_t> steps = download(exec_.backend, inversion_iterations_.prefix(count), exec_.stream);
-  const std::vector<float> mass = download(exec_.backend, quadrature_.mass.prefix(count), exec_.stream);
-  last_quadrature_mass_ = 0.0;
-  for (Index i = 0; i < count; ++i) {
-    quadrature_used_ += status[i] == rom::kQuadratureUsed;
-    quadrature_outside_ += status[i] == rom::kQuadratureOutside;
-    quadrature_unconverged_ += status[i] == rom::kQuadratureUnconverged;
-    inversion_iterations_total_ += steps[i];
-    last_quadrature_mass_ += mass[i];
-  }
+  const Span<const std::int32_t> status = quadrature_.status.prefix(count);
+  rom::tally_quadrature(exec_, status, inversion_iterations_.prefix(count), quadrature_.mass.prefix(count),
+                        tally_.span());
   // Points outside the body (or unconverged) carry no mass; P2G would evaluate a stress and activate
   // grid blocks for each of them, so the used points are gathered into a set of their own, P2G's.
-  std::vector<std::int32_t> used;
-  for (Index i = 0; i < count; ++i)
-    if (status[i] == rom::kQuadratureUsed) used.push_back(std::int32_t(i));
-  used_quadrature_.gather_from(exec_, quadrature_, upload_front(exec_, used_index_, used));
+  used_index_.ensure_size(exec_.backend, count);
+  const Index used = select_indices_(exec_, status, rom::kQuadratureUsed, used_index_.span());
+  used_quadrature_.gather_from(exec_, quadrature_, used_index_.prefix(used));
   return used_quadrature_.view();
 }
 
@@ -658,6 +649,10 @@ void ReducedSim::check_inside_domain(const DeviceBuffer<float>& x, Index count, 
                   point, positions[slot], positions[count + slot], positions[2 * count + slot], steps_, time_,
                   low[0], high[0], low[1], high[1], low[2], high[2], fmt::join(xhat_, ", ")),
       steps_, mpm::Stage::P2G, point);
+}
+
+rom::QuadratureTally ReducedSim::quadrature_tally() const {
+  return tally_.empty() ? rom::QuadratureTally{} : tally_.to_host(exec_.stream)[0];
 }
 
 void ReducedSim::advance_to(double t) {

@@ -23,6 +23,7 @@
 #include "host/step_inputs.h"
 #include "kernels/core/device_buffer.h"
 #include "kernels/core/exec.h"
+#include "kernels/core/index_select.h"
 #include "kernels/math/vec3.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
@@ -99,13 +100,16 @@ class ReducedSim {
   // Substeps whose Gauss–Newton projection stopped at its iteration limit before converging.
   std::int64_t unconverged_projections() const { return unconverged_projections_; }
   // Eulerian quadrature points so far: used, dropped outside the body, dropped unconverged (or inverted).
-  std::int64_t quadrature_points_used() const { return quadrature_used_; }
-  std::int64_t quadrature_points_outside() const { return quadrature_outside_; }
-  std::int64_t quadrature_points_unconverged() const { return quadrature_unconverged_; }
+  // These read the device's running totals (a download each).
+  std::int64_t quadrature_points_used() const { return quadrature_tally().points[rom::kQuadratureUsed]; }
+  std::int64_t quadrature_points_outside() const { return quadrature_tally().points[rom::kQuadratureOutside]; }
+  std::int64_t quadrature_points_unconverged() const {
+    return quadrature_tally().points[rom::kQuadratureUnconverged];
+  }
   // Iterations of g's inversion so far, summed over the Eulerian points.
-  std::int64_t inversion_iterations() const { return inversion_iterations_total_; }
-  // The quadrature mass of the last substep (kg): with every point sampled, the body's mass.
-  double last_quadrature_mass() const { return last_quadrature_mass_; }
+  std::int64_t inversion_iterations() const { return quadrature_tally().iterations; }
+  // The Eulerian quadrature's mass in the last substep (kg): with every point sampled, the body's mass.
+  double last_quadrature_mass() const { return quadrature_tally().last_mass; }
   // Lagrangian quadrature: whether it searches the samples' neighbours.
   bool searches_neighbours() const { return search_neighbours_; }
   // The quadrature points of the last substep: Lagrangian, the samples and their neighbours or every
@@ -136,6 +140,7 @@ class ReducedSim {
   // samples' or the Lagrangian quadrature's, `index` their material points, or empty for every point)
   // lies outside the grid's interior: x̂ has gone where the map no longer describes the body.
   void check_inside_domain(const DeviceBuffer<float>& x, Index count, Span<const std::int32_t> index);
+  rom::QuadratureTally quadrature_tally() const;
 
   Exec exec_;
   FullOrderConfig config_;
@@ -172,6 +177,8 @@ class ReducedSim {
   // CUDA synchronises the device); this step's elements are their prefix.
   DeviceBuffer<std::int32_t> used_index_;
   DeviceBuffer<std::int32_t> inversion_iterations_;  // per Eulerian point, this substep
+  DeviceBuffer<rom::QuadratureTally> tally_;         // Eulerian: the running totals
+  IndexSelector select_indices_;                     // the used points' and the neighbours' indices
   DeviceBuffer<float> guesses_, guess_jacobians_;    // Eulerian: each point's first X and ∂g/∂X there
   // The reference state (X, mass, volume, material, Dirichlet group, id) of the material points `index`.
   void gather_reference(Span<const std::int32_t> index, Quadrature& points);
@@ -202,9 +209,7 @@ class ReducedSim {
   double time_ = 0.0;
   std::int64_t steps_ = 0;
   std::int64_t unconverged_projections_ = 0;
-  std::int64_t quadrature_used_ = 0, quadrature_outside_ = 0, quadrature_unconverged_ = 0, inversion_iterations_total_ = 0;
   std::int64_t lagrangian_points_ = 0;
-  double last_quadrature_mass_ = 0.0;
   std::vector<std::pair<std::string, double>> stage_seconds_;
 };
 

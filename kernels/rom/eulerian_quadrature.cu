@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "kernels/core/atomic.h"
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
 #include "kernels/rom/deformation_map_point.h"
@@ -152,6 +153,36 @@ void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map,
   for_each(exec, n,
            EulerianPoint{map, xhat.data(), vhat.data(), occupancy, density, volume, options, x, X_guess, F_guess,
                          out});
+}
+
+namespace {
+
+struct ClearLastMass {
+  Span<QuadratureTally> tally;
+  ROMP_HD void operator()(Index) const { tally[0].last_mass = 0.0; }
+};
+
+struct TallyPoint {
+  Span<const std::int32_t> status, iterations;
+  Span<const float> mass;
+  Span<QuadratureTally> tally;
+  ROMP_HD void operator()(Index i) const {
+    QuadratureTally& total = tally[0];
+    atomic_add(&total.points[status[i]], std::int64_t(1));
+    atomic_add(&total.iterations, std::int64_t(iterations[i]));
+    atomic_add(&total.last_mass, double(mass[i]));
+  }
+};
+
+}  // namespace
+
+void tally_quadrature(const Exec& exec, Span<const std::int32_t> status, Span<const std::int32_t> iterations,
+                      Span<const float> mass, Span<QuadratureTally> tally) {
+  const Index n = status.size();
+  ROMP_CHECK(iterations.size() == n && mass.size() == n && tally.size() == 1,
+             "tally_quadrature: one status, iteration count and mass per point, one tally");
+  for_each(exec, 1, ClearLastMass{tally});
+  for_each(exec, n, TallyPoint{status, iterations, mass, tally});
 }
 
 }  // namespace romp::rom

@@ -88,4 +88,17 @@ void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map,
                          Vec3Planes<const float> X_guess, Mat3Planes<const float> F_guess,
                          const EulerianPointsOut& out);
 
+// Running totals of the Eulerian quadrature, kept on the device so that a substep reads nothing back
+// for them: the points by status (QuadratureStatus) and their inversion iterations since the run
+// began, and the mass of the last call's points.
+struct QuadratureTally {
+  std::int64_t points[3] = {0, 0, 0};
+  std::int64_t iterations = 0;
+  double last_mass = 0.0;
+};
+
+// Adds the n points' statuses and iterations to tally[0] and sets its last_mass to their mass.
+void tally_quadrature(const Exec& exec, Span<const std::int32_t> status, Span<const std::int32_t> iterations,
+                      Span<const float> mass, Span<QuadratureTally> tally);
+
 }  // namespace romp::rom

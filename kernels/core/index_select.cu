@@ -1,0 +1,57 @@
+// IndexSelector: CUB's DeviceSelect::If over the indices on CUDA, a sequential loop on the CPU.
+#include "kernels/core/index_select.h"
+
+#include <climits>
+#include <string>
+
+#include "kernels/core/error.h"
+
+#if defined(__CUDACC__)
+#include <thrust/iterator/counting_iterator.h>
+
+#include <cub/device/device_select.cuh>
+
+#include "kernels/core/cuda_check.h"
+#endif
+
+namespace romp {
+namespace {
+
+struct FlagEquals {
+  const std::int32_t* flags;
+  std::int32_t value;
+  ROMP_HD bool operator()(std::int32_t i) const { return flags[i] == value; }
+};
+
+}  // namespace
+
+Index IndexSelector::operator()(const Exec& exec, Span<const std::int32_t> flags, std::int32_t value,
+                                Span<std::int32_t> selected) {
+  const Index n = flags.size();
+  ROMP_CHECK(selected.size() >= n, "IndexSelector: room for " + std::to_string(selected.size()) + " indices of " +
+                                       std::to_string(n) + " flags");
+  ROMP_CHECK(n <= INT32_MAX, "IndexSelector: indices are 32-bit, got " + std::to_string(n) + " flags");
+  if (n == 0) return 0;
+  const FlagEquals equals{flags.data(), value};
+  if (exec.is_cuda()) {
+#if defined(__CUDACC__)
+    count_.ensure_size(exec.backend, 1);
+    const thrust::counting_iterator<std::int32_t> indices(0);
+    std::size_t bytes = 0;
+    ROMP_CUDA_CHECK(cub::DeviceSelect::If(nullptr, bytes, indices, selected.data(), count_.data(), n, equals,
+                                          exec.stream));
+    temporary_.ensure_size(exec.backend, Index(bytes));
+    ROMP_CUDA_CHECK(cub::DeviceSelect::If(temporary_.data(), bytes, indices, selected.data(), count_.data(), n, equals,
+                                          exec.stream));
+    return Index(download(exec.backend, count_.prefix(1), exec.stream)[0]);
+#else
+    throw Error("IndexSelector on CUDA from a translation unit not compiled by nvcc");
+#endif
+  }
+  Index count = 0;
+  for (Index i = 0; i < n; ++i)
+    if (equals(std::int32_t(i))) selected[count++] = std::int32_t(i);
+  return count;
+}
+
+}  // namespace romp

@@ -1,0 +1,27 @@
+// IndexSelector: the indices whose flag has a given value, compacted in increasing order, on the
+// device (CUB's DeviceSelect on CUDA, a loop on the CPU: the same result on both).
+#pragma once
+
+#include <cstdint>
+
+#include "kernels/core/device_buffer.h"
+#include "kernels/core/exec.h"
+#include "kernels/core/span.h"
+
+namespace romp {
+
+// Keeps CUB's temporary storage and the count's slot, so that a loop selecting every step allocates
+// only when its flags outgrow every earlier call.
+class IndexSelector {
+ public:
+  // Writes the i < flags.size() with flags[i] == value into the front of `selected` (flags.size()
+  // entries at least) and returns how many there are: one download, where compacting on the host
+  // would download every flag and upload the indices.
+  Index operator()(const Exec& exec, Span<const std::int32_t> flags, std::int32_t value, Span<std::int32_t> selected);
+
+ private:
+  DeviceBuffer<unsigned char> temporary_;
+  DeviceBuffer<std::int64_t> count_;
+};
+
+}  // namespace romp
