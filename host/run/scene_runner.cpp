@@ -20,6 +20,7 @@
 #include "host/run/simulation.h"
 #include "host/scene/scene_setup.h"
 #include "host/scene/toml_reader.h"
+#include "kernels/core/memory.h"
 #include "nn/snapshot_reader.h"
 #include "nn/snapshot_layout.h"
 
@@ -177,6 +178,7 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   result.last_frame = first_frame;
   ProgressBar progress(first_frame, scene.frame_count, scene.end_time);
   const std::int64_t steps_before = sim.steps();
+  const memory::Traffic traffic_before = memory::traffic();
   for (std::int64_t frame = first_frame + 1; frame <= scene.frame_count; ++frame) {
     try {
       sim.advance_to(frame_time(scene, frame));
@@ -210,6 +212,17 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   result.simulated_seconds = sim.time() - restored_time;
   result.stage_seconds = sim.stage_seconds();
   result.diagnostics = sim.diagnostics();
+  if (result.substeps > 0) {
+    // What the loop cost the host besides its kernels (on a GPU each allocation synchronises the
+    // device and each transfer is a blocking round trip): the first thing to read when a run is slow.
+    const memory::Traffic traffic = memory::traffic();
+    const double substeps = double(result.substeps);
+    result.diagnostics.push_back(fmt::format(
+        "host traffic per substep, frame output included: {:.2f} allocations, {:.2f} uploads, {:.2f} downloads",
+        double(traffic.allocations - traffic_before.allocations) / substeps,
+        double(traffic.uploads - traffic_before.uploads) / substeps,
+        double(traffic.downloads - traffic_before.downloads) / substeps));
+  }
   result.stage_seconds.emplace_back("output", output_seconds);
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include "host/full_order_sim.h"
 #include "host/io/snapshot_writer.h"
@@ -67,6 +68,11 @@ TEST_F(SceneRunner, WritesEveryFrameAndLeavesOnlyTheFinishedFiles) {
   EXPECT_TRUE(fs::exists(io::xdmf_path(o.output)));
   EXPECT_FALSE(fs::exists(io::partial_path(o.output)));
   EXPECT_FALSE(fs::exists(io::checkpoint_path(o.output)));
+  // The substeps allocate nothing (FullOrderSim's test); the frames' captures do, 8 frames in 80 substeps.
+  ASSERT_FALSE(r.diagnostics.empty());
+  const std::string& traffic = r.diagnostics.back();
+  EXPECT_EQ(traffic.rfind("host traffic per substep, frame output included: ", 0), 0u) << traffic;
+  EXPECT_LT(std::stod(traffic.substr(traffic.find(": ") + 2)), 1.0) << traffic;
   const io::SnapshotReader reader(o.output);
   EXPECT_EQ(reader.frame_count(), 9);
   EXPECT_EQ(reader.header().scene, scene.resolved_text);
