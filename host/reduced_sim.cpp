@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <unordered_map>
 #include <unordered_set>
 
 #include "host/full_order_sim.h"
@@ -15,7 +14,6 @@
 #include "kernels/core/fill.h"
 #include "kernels/core/gather_planes.h"
 #include "kernels/math/cholesky_solve.h"
-#include "kernels/mpm/bspline.h"
 #include "kernels/mpm/step.h"
 #include "kernels/rom/reduced_dynamics.h"
 #include "kernels/rom/stencil_neighbours.h"
@@ -356,8 +354,8 @@ mpm::ParticleView ReducedSim::lagrangian_quadrature(Index m) {
     const Index n = points_;
     const float inverse_dx = 1.0f / config_.dx;
     evaluate_map(Vec3Planes<const float>(X_.data(), n), {Vec3Planes<float>(positions_.data(), n), {}, {}});
-    const Span<std::uint64_t> near_bases =
-        upload_front(exec_, near_bases_, rom::bases_near_samples(samples_.x.to_host(exec_.stream), m, inverse_dx));
+    const Span<const std::uint64_t> near_bases =
+        neighbourhood_.near_bases(exec_, Vec3Planes<const float>(samples_.x.data(), m), inverse_dx);
     rom::mark_stencil_neighbours(exec_, Vec3Planes<const float>(positions_.data(), n), inverse_dx, near_bases,
                                  marked_.span());
     // Compacted on the device, in reference order.
@@ -380,81 +378,16 @@ mpm::ParticleView ReducedSim::lagrangian_quadrature(Index m) {
 }
 
 mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
-  // Alg. 4, step 3: the cells whose points may reach a sample's grid nodes. A point in cell c has its
-  // stencil's base node at c − 1 or c, so it reaches nodes c − 1 .. c + 2; the nodes of a sample with
-  // base node B are B .. B + 2, reached from cells B − 2 .. B + 3.
-  const std::vector<float> X = samples_.X.to_host(exec_.stream), x = samples_.x.to_host(exec_.stream),
-                           F = samples_.F.to_host(exec_.stream);
-  const int l = options_.points_per_cell;
-  const float dx = config_.dx;
-  std::unordered_map<std::uint64_t, Index> cell_sample;  // each cell once, with the sample that found it
-  std::vector<std::pair<std::uint64_t, Index>> cells;
-  for (Index s = 0; s < m; ++s) {
-    const mpm::QuadraticStencil<float> stencil(planes_at(x, m, s), 1.0f / dx);
-    int c[3];
-    for (c[0] = stencil.base[0] - 2; c[0] <= stencil.base[0] + 3; ++c[0])
-      for (c[1] = stencil.base[1] - 2; c[1] <= stencil.base[1] + 3; ++c[1])
-        for (c[2] = stencil.base[2] - 2; c[2] <= stencil.base[2] + 3; ++c[2]) {
-          bool inside = true;
-          for (int a = 0; a < 3; ++a) inside = inside && c[a] >= 0 && c[a] < config_.domain_cells[a];
-          if (!inside) continue;
-          const std::uint64_t key = rom::node_key(c[0], c[1], c[2]);
-          if (cell_sample.emplace(key, s).second) cells.emplace_back(key, s);
-        }
-  }
-  // ℓ³ points per cell, of which only those whose stencils reach a sample's grid nodes (the Lagrangian
-  // neighbours' rule, stencil_neighbours.h; NeighbourSearch::Never keeps them all): the others add only
-  // to nodes no sample reads, about 40 % of the points at ℓ = 2. Each starts its inversion from the
-  // linearisation of g at its cell's sample.
-  const float inverse_dx = 1.0f / dx;
-  const bool prune = options_.neighbour_search != NeighbourSearch::Never;
-  const std::vector<std::uint64_t> near = prune ? rom::bases_near_samples(x, m, inverse_dx) : std::vector<std::uint64_t>();
-  std::vector<Vec3<float>> kept, guessed;
-  std::vector<Index> sample_of;  // the sample whose linearisation of g gave each point's guess
-  for (const auto& [key, s] : cells) {
-    const int c[3] = {int(key >> 42), int((key >> 21) & 0x1fffff), int(key & 0x1fffff)};
-    Mat3<double> F_s;
-    for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < 3; ++k) F_s(r, k) = F[std::size_t((3 * r + k) * m + s)];
-    const Vec3<float> x_s = planes_at(x, m, s), X_s = planes_at(X, m, s);
-    const double det = determinant(F_s);
-    for (int i = 0; i < l; ++i)
-      for (int j = 0; j < l; ++j)
-        for (int k = 0; k < l; ++k) {
-          const int sub[3] = {i, j, k};
-          Vec3<double> offset;
-          Vec3<float> point;
-          for (int a = 0; a < 3; ++a) {
-            const double position = (c[a] + (sub[a] + 0.5) / l) * dx;
-            point[a] = float(position);
-            offset[a] = position - x_s[a];
-          }
-          if (prune) {
-            const mpm::QuadraticStencil<float> stencil(point, inverse_dx);
-            const int* b = stencil.base;
-            if (!std::binary_search(near.begin(), near.end(), rom::node_key(b[0], b[1], b[2]))) continue;
-          }
-          // X_s + F_s⁻¹ (x_q − x_s), with F⁻¹ from the rows' cross products (identity if F_s is singular).
-          const Vec3<double> r0 = F_s.row(0), r1 = F_s.row(1), r2 = F_s.row(2);
-          const Vec3<double> step = det > 0.0 ? (offset[0] * cross(r1, r2) + offset[1] * cross(r2, r0) +
-                                                 offset[2] * cross(r0, r1)) *
-                                                    (1.0 / det)
-                                              : offset;
-          kept.push_back(point);
-          guessed.push_back(Vec3<float>(float(X_s[0] + step[0]), float(X_s[1] + step[1]), float(X_s[2] + step[2])));
-          sample_of.push_back(s);
-        }
-  }
-  const Index count = Index(kept.size());
-  std::vector<float> points(static_cast<std::size_t>(3 * count)), guesses(static_cast<std::size_t>(3 * count)),
-      jacobians(static_cast<std::size_t>(9 * count));
-  for (Index q = 0; q < count; ++q) {
-    for (int a = 0; a < 3; ++a) {
-      points[std::size_t(a * count + q)] = kept[std::size_t(q)][a];
-      guesses[std::size_t(a * count + q)] = guessed[std::size_t(q)][a];
-    }
-    for (int e = 0; e < 9; ++e) jacobians[std::size_t(e * count + q)] = F[std::size_t(e * m + sample_of[std::size_t(q)])];
-  }
+  // Alg. 4, step 3: ℓ³ points in each cell whose points may reach a sample's grid nodes, of which only
+  // those whose stencils reach them (NeighbourSearch::Never keeps them all), built on the device.
+  rom::EulerianLattice lattice;
+  lattice.dx = config_.dx;
+  lattice.points_per_cell = options_.points_per_cell;
+  for (int a = 0; a < 3; ++a) lattice.domain_cells[a] = config_.domain_cells[a];
+  lattice.prune = options_.neighbour_search != NeighbourSearch::Never;
+  const Index count = neighbourhood_.build_eulerian_points(exec_, Vec3Planes<const float>(samples_.X.data(), m),
+                                                           Vec3Planes<const float>(samples_.x.data(), m),
+                                                           Mat3Planes<const float>(samples_.F.data(), m), lattice);
   // The count changes nearly every substep: the buffers grow with headroom and are otherwise reused.
   if (quadrature_.resize(exec_.backend, count)) {
     // No Eulerian point is a material point or in a Dirichlet group; set once for the whole capacity.
@@ -465,17 +398,20 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
     quadrature_.id.copy_from_host(Span<const std::int32_t>(ids.data(), capacity), exec_.stream);
   }
   inversion_iterations_.ensure_size(exec_.backend, count);
-  upload_front(exec_, quadrature_.x, points);
-  const Span<const float> guess = upload_front(exec_, guesses_, guesses),
-                          guess_jacobian = upload_front(exec_, guess_jacobians_, jacobians);
+  guesses_.ensure_size(exec_.backend, 3 * count);
+  guess_jacobians_.ensure_size(exec_.backend, 9 * count);
+  const Vec3Planes<float> guess(guesses_.data(), count);
+  const Mat3Planes<float> guess_jacobian(guess_jacobians_.data(), count);
+  neighbourhood_.write_eulerian_points(exec_, Vec3Planes<float>(quadrature_.x.data(), count), guess, guess_jacobian);
+  const float dx = config_.dx;
+  const int l = options_.points_per_cell;
   rom::InversionOptions inversion;
   inversion.iterations = options_.inversion_iterations;
   inversion.tolerance = options_.inversion_tolerance * dx;
   rom::eulerian_quadrature(exec_, map_view(), Span<const float>(xhat_device_.data(), latent_), vhat_device_.span(),
                            occupancy_, densities_.span(), dx * dx * dx / float(l * l * l), inversion,
                            Vec3Planes<const float>(quadrature_.x.data(), count),
-                           Vec3Planes<const float>(guess.data(), count),
-                           Mat3Planes<const float>(guess_jacobian.data(), count),
+                           Vec3Planes<const float>(guess), Mat3Planes<const float>(guess_jacobian),
                            {Vec3Planes<float>(quadrature_.X.data(), count),
                             Vec3Planes<float>(quadrature_.v.data(), count),
                             Mat3Planes<float>(quadrature_.F.data(), count), quadrature_.mass.prefix(count),

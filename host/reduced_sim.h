@@ -29,6 +29,7 @@
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/rom/deformation_map_eval.h"
 #include "kernels/rom/eulerian_quadrature.h"
+#include "kernels/rom/sample_neighbourhood.h"
 
 namespace romp {
 
@@ -180,6 +181,7 @@ class ReducedSim {
   DeviceBuffer<rom::QuadratureTally> tally_;         // Eulerian: the running totals
   IndexSelector select_indices_;                     // the used points' and the neighbours' indices
   DeviceBuffer<float> guesses_, guess_jacobians_;    // Eulerian: each point's first X and ∂g/∂X there
+  rom::SampleNeighbourhood neighbourhood_;           // the nodes and Eulerian points around the samples
   // The reference state (X, mass, volume, material, Dirichlet group, id) of the material points `index`.
   void gather_reference(Span<const std::int32_t> index, Quadrature& points);
   DeviceBuffer<float> dg_dxhat_;  // Lagrangian: ∂g/∂x̂ at the quadrature points
@@ -187,7 +189,6 @@ class ReducedSim {
   // points marked as neighbours and their indices.
   bool search_neighbours_ = false;
   DeviceBuffer<float> positions_;
-  DeviceBuffer<std::uint64_t> near_bases_;
   DeviceBuffer<std::int32_t> marked_, quadrature_index_;
   DeviceBuffer<std::int64_t> first_outside_;  // 1 slot for rom::find_point_outside
   // The samples: reference and current state, ∂g/∂x̂ there, and g during Gauss–Newton.

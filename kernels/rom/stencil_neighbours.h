@@ -5,7 +5,6 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
 
 #include "kernels/core/exec.h"
 #include "kernels/core/hd.h"
@@ -19,12 +18,21 @@ ROMP_HD_INLINE std::uint64_t node_key(int i, int j, int k) {
   return (std::uint64_t(i) << 42) | (std::uint64_t(j) << 21) | std::uint64_t(k);
 }
 
-// Two 3 × 3 × 3 stencils share a node exactly when their base nodes are at most 2 apart on every axis,
-// so the neighbours are the points whose base node is one of these: the sorted, unique keys of every
-// node within 2 (per axis) of a sample's base node. `x`: the samples' current positions (host planes).
-std::vector<std::uint64_t> bases_near_samples(const std::vector<float>& x, Index samples, float inverse_dx);
+// Whether `sorted` (increasing) holds `key`: a binary search, the key sets being a few hundred keys.
+ROMP_HD_INLINE bool sorted_contains(Span<const std::uint64_t> sorted, std::uint64_t key) {
+  Index low = 0, high = sorted.size();
+  while (low < high) {
+    const Index middle = low + (high - low) / 2;
+    if (sorted[middle] < key)
+      low = middle + 1;
+    else
+      high = middle;
+  }
+  return low < sorted.size() && sorted[low] == key;
+}
 
-// marked[p] = 1 if point p's base node (at its current position x) is in `near_bases`, else 0.
+// marked[p] = 1 if point p's base node (at its current position x) is in `near_bases` (sorted: the
+// nodes near the samples, SampleNeighbourhood::near_bases), else 0.
 void mark_stencil_neighbours(const Exec& exec, Vec3Planes<const float> x, float inverse_dx,
                              Span<const std::uint64_t> near_bases, Span<std::int32_t> marked);
 

@@ -202,18 +202,18 @@ TEST(ReducedSim, SubstepsReuseTheirBuffersAndMakeFewRoundTrips) {
   // headroom now and then (not in these 12 substeps), where they were allocated every substep.
   const SubstepTraffic neighbours = substep_traffic(RomQuadrature::Lagrangian, NeighbourSearch::Always);
   EXPECT_LE(neighbours.allocating_substeps, 2);
-  // And: the base nodes near the samples up; the samples' x and the neighbours' count down (the
-  // neighbours are compacted on the device).
-  EXPECT_LE(neighbours.largest_uploads, 4);
-  EXPECT_LE(neighbours.largest_downloads, 8);
+  // And: the neighbours' count down (the nodes near the samples are found, and the neighbours
+  // compacted, on the device).
+  EXPECT_LE(neighbours.largest_uploads, 3);
+  EXPECT_LE(neighbours.largest_downloads, 7);
 
   const SubstepTraffic eulerian = substep_traffic(RomQuadrature::Eulerian, NeighbourSearch::Auto);
   EXPECT_LE(eulerian.allocating_substeps, 2);
-  // As every point's, less the quadrature's domain check; and: the points, their guesses and Jacobians
-  // up; the samples' X, x and F down (the host builds the points around the samples), and the count of
-  // the points used (compacted and tallied on the device).
-  EXPECT_LE(eulerian.largest_uploads, 6);
-  EXPECT_LE(eulerian.largest_downloads, 9);
+  // As every point's, less the quadrature's domain check; and the counts of the cells around the
+  // samples, of the points in them and of the points used down (built, compacted and tallied on the
+  // device).
+  EXPECT_LE(eulerian.largest_uploads, 3);
+  EXPECT_LE(eulerian.largest_downloads, 8);
 }
 
 // Auto searches only where the samples reach under half the body: never with every point sampled, nor

@@ -1,0 +1,180 @@
+// SampleNeighbourhood: keys of the nodes and cells around the samples, sorted and made unique on the
+// device; the Eulerian points of those cells, pruned and compacted there.
+#include "kernels/rom/sample_neighbourhood.h"
+
+#include "kernels/core/error.h"
+#include "kernels/core/for_each.h"
+#include "kernels/core/gather_planes.h"
+#include "kernels/math/mat3.h"
+#include "kernels/mpm/bspline.h"
+#include "kernels/rom/stencil_neighbours.h"
+
+namespace romp::rom {
+namespace {
+
+// Sorts after every node's key (node coordinates stay below 2^21).
+constexpr std::uint64_t kNoNode = UINT64_MAX;
+constexpr int kNearPerSample = 5 * 5 * 5;   // base nodes within 2 of the sample's
+constexpr int kCellsPerSample = 6 * 6 * 6;  // cells B − 2 .. B + 3 per axis
+
+struct NearBaseKeys {
+  Vec3Planes<const float> x;
+  float inverse_dx;
+  Span<std::uint64_t> keys;
+  Span<std::int32_t> samples;
+  ROMP_HD void operator()(Index t) const {
+    const Index s = t / kNearPerSample;
+    const int j = int(t % kNearPerSample);
+    const mpm::QuadraticStencil<float> stencil(x.load(s), inverse_dx);
+    const int node[3] = {stencil.base[0] + j / 25 - 2, stencil.base[1] + j / 5 % 5 - 2, stencil.base[2] + j % 5 - 2};
+    // Nodes below 0 hold no point's base: the engine keeps particles a cell inside the domain.
+    keys[t] = node[0] < 0 || node[1] < 0 || node[2] < 0 ? kNoNode : node_key(node[0], node[1], node[2]);
+    samples[t] = std::int32_t(s);
+  }
+};
+
+struct CellsAroundSamples {
+  Vec3Planes<const float> x;
+  float inverse_dx;
+  int domain_cells[3];
+  Span<std::uint64_t> keys;
+  Span<std::int32_t> samples;
+  ROMP_HD void operator()(Index t) const {
+    const Index s = t / kCellsPerSample;
+    const int j = int(t % kCellsPerSample);
+    const mpm::QuadraticStencil<float> stencil(x.load(s), inverse_dx);
+    const int cell[3] = {stencil.base[0] + j / 36 - 2, stencil.base[1] + j / 6 % 6 - 2, stencil.base[2] + j % 6 - 2};
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) inside = inside && cell[a] >= 0 && cell[a] < domain_cells[a];
+    keys[t] = inside ? node_key(cell[0], cell[1], cell[2]) : kNoNode;
+    samples[t] = std::int32_t(s);
+  }
+};
+
+// 1 at the first of each run of equal keys (sorted), 0 elsewhere and at kNoNode.
+struct FirstOfEachKey {
+  Span<const std::uint64_t> keys;
+  Span<std::int32_t> first;
+  ROMP_HD void operator()(Index t) const {
+    first[t] = keys[t] != kNoNode && (t == 0 || keys[t] != keys[t - 1]) ? 1 : 0;
+  }
+};
+
+struct EulerianCandidate {
+  Span<const std::uint64_t> cell_keys;    // sorted
+  Span<const std::int32_t> cell_samples;  // the sample of each, the first in sample order
+  Span<const std::int32_t> cells;         // the positions of the unique cells in cell_keys
+  Span<const std::uint64_t> near;         // empty: no pruning
+  Vec3Planes<const float> X_s, x_s;
+  Mat3Planes<const float> F_s;
+  int l;
+  float dx;
+  Vec3Planes<float> x, X_guess;
+  Mat3Planes<float> F_guess;
+  Span<std::int32_t> keep;
+
+  ROMP_HD void operator()(Index t) const {
+    const int per_cell = l * l * l;
+    const Index at = cells[t / per_cell];
+    const int sub_index = int(t % per_cell);
+    const std::uint64_t key = cell_keys[at];
+    const Index s = cell_samples[at];
+    const int cell[3] = {int(key >> 42), int((key >> 21) & 0x1fffff), int(key & 0x1fffff)};
+    const int sub[3] = {sub_index / (l * l), sub_index / l % l, sub_index % l};
+    const Vec3<float> sample_x = x_s.load(s), sample_X = X_s.load(s);
+    Vec3<double> offset;
+    Vec3<float> point;
+    for (int a = 0; a < 3; ++a) {
+      const double position = (cell[a] + (sub[a] + 0.5) / l) * dx;
+      point[a] = float(position);
+      offset[a] = position - sample_x[a];
+    }
+    if (!near.empty()) {
+      const mpm::QuadraticStencil<float> stencil(point, 1.0f / dx);
+      const int* b = stencil.base;
+      keep[t] = sorted_contains(near, node_key(b[0], b[1], b[2])) ? 1 : 0;
+    } else {
+      keep[t] = 1;
+    }
+    const Mat3<float> F = F_s.load(s);
+    Mat3<double> F_d;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) F_d(r, c) = F(r, c);
+    // F⁻¹ (x − x_s) from the rows' cross products.
+    const double det = determinant(F_d);
+    const Vec3<double> r0 = F_d.row(0), r1 = F_d.row(1), r2 = F_d.row(2);
+    const Vec3<double> step =
+        det > 0.0 ? (offset[0] * cross(r1, r2) + offset[1] * cross(r2, r0) + offset[2] * cross(r0, r1)) * (1.0 / det)
+                  : offset;
+    x.store(t, point);
+    X_guess.store(t, Vec3<float>(float(sample_X[0] + step[0]), float(sample_X[1] + step[1]),
+                                 float(sample_X[2] + step[2])));
+    F_guess.store(t, F);
+  }
+};
+
+}  // namespace
+
+Span<const std::uint64_t> SampleNeighbourhood::near_bases(const Exec& exec, Vec3Planes<const float> x,
+                                                          float inverse_dx) {
+  const Index n = kNearPerSample * x.count();
+  keys_.ensure_size(exec.backend, n);
+  samples_.ensure_size(exec.backend, n);
+  for_each(exec, n, NearBaseKeys{x, inverse_dx, keys_.span(), samples_.span()});
+  return sort_near_(exec, keys_.prefix(n), samples_.prefix(n)).first;
+}
+
+Index SampleNeighbourhood::build_eulerian_points(const Exec& exec, Vec3Planes<const float> X,
+                                                 Vec3Planes<const float> x, Mat3Planes<const float> F,
+                                                 const EulerianLattice& lattice) {
+  const Index m = x.count();
+  ROMP_CHECK(X.count() == m && F.count() == m, "the samples' X, x and F need one entry per sample");
+  ROMP_CHECK(lattice.dx > 0.0f && lattice.points_per_cell >= 1, "Eulerian points need dx > 0 and ℓ >= 1");
+  const float inverse_dx = 1.0f / lattice.dx;
+  const Span<const std::uint64_t> near = lattice.prune ? near_bases(exec, x, inverse_dx) : Span<const std::uint64_t>();
+
+  // The cells around each sample, sorted by key (stably: the first of a run is the first sample that
+  // found the cell), and the first of each run.
+  const Index pairs = kCellsPerSample * m;
+  keys_.ensure_size(exec.backend, pairs);
+  samples_.ensure_size(exec.backend, pairs);
+  CellsAroundSamples around{x, inverse_dx, {}, keys_.span(), samples_.span()};
+  for (int a = 0; a < 3; ++a) around.domain_cells[a] = lattice.domain_cells[a];
+  for_each(exec, pairs, around);
+  const auto [cell_keys, cell_samples] = sort_cells_(exec, keys_.prefix(pairs), samples_.prefix(pairs));
+  flags_.ensure_size(exec.backend, pairs);
+  chosen_.ensure_size(exec.backend, pairs);
+  for_each(exec, pairs, FirstOfEachKey{cell_keys, flags_.prefix(pairs)});
+  const Index cells = select_(exec, flags_.prefix(pairs), 1, chosen_.span());
+
+  // ℓ³ candidates per cell, then those kept, compacted.
+  const int l = lattice.points_per_cell;
+  const Index candidates = cells * l * l * l;
+  candidates_.ensure_size(exec.backend, 15 * candidates);
+  flags_.ensure_size(exec.backend, candidates);
+  kept_.ensure_size(exec.backend, candidates);
+  float* base = candidates_.data();
+  for_each(exec, candidates,
+           EulerianCandidate{cell_keys, cell_samples, chosen_.prefix(cells), near, X, x, F, l, lattice.dx,
+                             Vec3Planes<float>(base, candidates), Vec3Planes<float>(base + 3 * candidates, candidates),
+                             Mat3Planes<float>(base + 6 * candidates, candidates), flags_.prefix(candidates)});
+  candidate_count_ = candidates;
+  kept_count_ = select_(exec, flags_.prefix(candidates), 1, kept_.span());
+  return kept_count_;
+}
+
+void SampleNeighbourhood::write_eulerian_points(const Exec& exec, Vec3Planes<float> x, Vec3Planes<float> X_guess,
+                                                Mat3Planes<float> F_guess) const {
+  const Index n = kept_count_, c = candidate_count_;
+  ROMP_CHECK(x.count() == n && X_guess.count() == n && F_guess.count() == n,
+             "write_eulerian_points: room for exactly the points of the last build");
+  const float* base = candidates_.data();
+  const Span<const std::int32_t> kept = kept_.prefix(n);
+  for_each(exec, n, GatherPlanes<float>{Span<const float>(base, 3 * c), c, Span<float>(x.data(), 3 * n), kept, 3});
+  for_each(exec, n,
+           GatherPlanes<float>{Span<const float>(base + 3 * c, 3 * c), c, Span<float>(X_guess.data(), 3 * n), kept, 3});
+  for_each(exec, n,
+           GatherPlanes<float>{Span<const float>(base + 6 * c, 9 * c), c, Span<float>(F_guess.data(), 9 * n), kept, 9});
+}
+
+}  // namespace romp::rom

@@ -1,0 +1,58 @@
+// SampleNeighbourhood: the grid nodes and cells around the hyper-reduction samples, found on the
+// device from the samples' state there, so that a reduced substep reads none of it back to the host.
+//
+// near_bases: the nodes within 2 (per axis) of a sample's base node. Two quadratic B-spline stencils
+// share a node exactly when their base nodes are at most 2 apart on every axis, so a point whose base
+// node is one of these reaches a grid node some sample reads (stencil_neighbours.h).
+//
+// Eulerian points (ROM paper, Alg. 4, step 3): a point in cell c has its stencil's base node at c − 1
+// or c, so it reaches nodes c − 1 .. c + 2; the nodes of a sample with base node B are B .. B + 2,
+// reached from cells B − 2 .. B + 3. Each such cell (once, with the first sample in sample order that
+// finds it) gets ℓ³ points at (c + (i + ½)/ℓ) dx; with pruning, only those whose base node is near a
+// sample are kept (the others add only to nodes no sample reads, about 40 % of them at ℓ = 2). Each
+// keeps, as the first guess of its inversion, the linearisation of g at its cell's sample:
+// X_s + F_s⁻¹ (x − x_s) (x − x_s itself if F_s is singular or inverted) and ∇_X g ≈ F_s.
+#pragma once
+
+#include <cstdint>
+
+#include "kernels/core/device_buffer.h"
+#include "kernels/core/exec.h"
+#include "kernels/core/index_select.h"
+#include "kernels/core/pair_sort.h"
+#include "kernels/core/span.h"
+#include "kernels/math/mat3_planes.h"
+
+namespace romp::rom {
+
+struct EulerianLattice {
+  float dx = 0.0f;
+  int points_per_cell = 2;        // ℓ, per axis
+  int domain_cells[3] = {0, 0, 0};  // cells outside [0, domain_cells) get no points
+  bool prune = true;              // keep only the points whose base node is near a sample
+};
+
+class SampleNeighbourhood {
+ public:
+  // The keys (node_key) of the nodes near the samples at x, sorted; duplicates and keys that match no
+  // node (UINT64_MAX, for nodes below 0) may be among them. Valid until the next call.
+  Span<const std::uint64_t> near_bases(const Exec& exec, Vec3Planes<const float> x, float inverse_dx);
+
+  // Builds the Eulerian points around the samples (reference X, current x, ∇_X g at F, m of each) and
+  // returns their count (two downloads: the cells' and the points' counts).
+  Index build_eulerian_points(const Exec& exec, Vec3Planes<const float> X, Vec3Planes<const float> x,
+                              Mat3Planes<const float> F, const EulerianLattice& lattice);
+  // Writes the points of the last build, count of each: positions, first guesses of X and of ∇_X g.
+  void write_eulerian_points(const Exec& exec, Vec3Planes<float> x, Vec3Planes<float> X_guess,
+                             Mat3Planes<float> F_guess) const;
+
+ private:
+  PairSorter sort_near_, sort_cells_;
+  IndexSelector select_;
+  DeviceBuffer<std::uint64_t> keys_;
+  DeviceBuffer<std::int32_t> samples_, flags_, chosen_, kept_;
+  DeviceBuffer<float> candidates_;  // per candidate point: x (3 planes), X guess (3), F guess (9)
+  Index candidate_count_ = 0, kept_count_ = 0;
+};
+
+}  // namespace romp::rom
