@@ -2,6 +2,8 @@
 // device; the Eulerian points of those cells, pruned and compacted there.
 #include "kernels/rom/sample_neighbourhood.h"
 
+#include <climits>
+
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
 #include "kernels/core/gather_planes.h"
@@ -14,39 +16,31 @@ namespace {
 
 // Sorts after every node's key (node coordinates stay below 2^21).
 constexpr std::uint64_t kNoNode = UINT64_MAX;
-constexpr int kNearPerSample = 5 * 5 * 5;   // base nodes within 2 of the sample's
-constexpr int kCellsPerSample = 6 * 6 * 6;  // cells B − 2 .. B + 3 per axis
+constexpr int kNearWidth = 5;   // base nodes within 2 of the sample's, per axis
+constexpr int kCellsWidth = 6;  // cells B − 2 .. B + 3, per axis
 
-struct NearBaseKeys {
+// The keys of the width³ nodes (or cells) base − 2 .. base − 3 + width per axis around each sample's
+// base node, kNoNode for those outside [0, upper) on some axis; and the sample of each.
+struct KeysAroundSamples {
   Vec3Planes<const float> x;
   float inverse_dx;
+  int width;
+  int upper[3];
   Span<std::uint64_t> keys;
   Span<std::int32_t> samples;
   ROMP_HD void operator()(Index t) const {
-    const Index s = t / kNearPerSample;
-    const int j = int(t % kNearPerSample);
+    const int per_sample = width * width * width;
+    const Index s = t / per_sample;
+    const int j = int(t % per_sample);
     const mpm::QuadraticStencil<float> stencil(x.load(s), inverse_dx);
-    const int node[3] = {stencil.base[0] + j / 25 - 2, stencil.base[1] + j / 5 % 5 - 2, stencil.base[2] + j % 5 - 2};
-    // Nodes below 0 hold no point's base: the engine keeps particles a cell inside the domain.
-    keys[t] = node[0] < 0 || node[1] < 0 || node[2] < 0 ? kNoNode : node_key(node[0], node[1], node[2]);
-    samples[t] = std::int32_t(s);
-  }
-};
-
-struct CellsAroundSamples {
-  Vec3Planes<const float> x;
-  float inverse_dx;
-  int domain_cells[3];
-  Span<std::uint64_t> keys;
-  Span<std::int32_t> samples;
-  ROMP_HD void operator()(Index t) const {
-    const Index s = t / kCellsPerSample;
-    const int j = int(t % kCellsPerSample);
-    const mpm::QuadraticStencil<float> stencil(x.load(s), inverse_dx);
-    const int cell[3] = {stencil.base[0] + j / 36 - 2, stencil.base[1] + j / 6 % 6 - 2, stencil.base[2] + j % 6 - 2};
+    const int offset[3] = {j / (width * width), j / width % width, j % width};
+    int at[3];
     bool inside = true;
-    for (int a = 0; a < 3; ++a) inside = inside && cell[a] >= 0 && cell[a] < domain_cells[a];
-    keys[t] = inside ? node_key(cell[0], cell[1], cell[2]) : kNoNode;
+    for (int a = 0; a < 3; ++a) {
+      at[a] = stencil.base[a] + offset[a] - 2;
+      inside = inside && at[a] >= 0 && at[a] < upper[a];
+    }
+    keys[t] = inside ? node_key(at[0], at[1], at[2]) : kNoNode;
     samples[t] = std::int32_t(s);
   }
 };
@@ -117,10 +111,12 @@ struct EulerianCandidate {
 
 Span<const std::uint64_t> SampleNeighbourhood::near_bases(const Exec& exec, Vec3Planes<const float> x,
                                                           float inverse_dx) {
-  const Index n = kNearPerSample * x.count();
+  const Index n = kNearWidth * kNearWidth * kNearWidth * x.count();
   keys_.ensure_size(exec.backend, n);
   samples_.ensure_size(exec.backend, n);
-  for_each(exec, n, NearBaseKeys{x, inverse_dx, keys_.span(), samples_.span()});
+  // Nodes below 0 hold no point's base: the engine keeps particles a cell inside the domain.
+  for_each(exec, n, KeysAroundSamples{x, inverse_dx, kNearWidth, {INT_MAX, INT_MAX, INT_MAX}, keys_.span(),
+                                      samples_.span()});
   return sort_near_(exec, keys_.prefix(n), samples_.prefix(n)).first;
 }
 
@@ -135,12 +131,13 @@ Index SampleNeighbourhood::build_eulerian_points(const Exec& exec, Vec3Planes<co
 
   // The cells around each sample, sorted by key (stably: the first of a run is the first sample that
   // found the cell), and the first of each run.
-  const Index pairs = kCellsPerSample * m;
+  const Index pairs = kCellsWidth * kCellsWidth * kCellsWidth * m;
   keys_.ensure_size(exec.backend, pairs);
   samples_.ensure_size(exec.backend, pairs);
-  CellsAroundSamples around{x, inverse_dx, {}, keys_.span(), samples_.span()};
-  for (int a = 0; a < 3; ++a) around.domain_cells[a] = lattice.domain_cells[a];
-  for_each(exec, pairs, around);
+  const int* cells_below = lattice.domain_cells;
+  for_each(exec, pairs,
+           KeysAroundSamples{x, inverse_dx, kCellsWidth, {cells_below[0], cells_below[1], cells_below[2]},
+                             keys_.span(), samples_.span()});
   const auto [cell_keys, cell_samples] = sort_cells_(exec, keys_.prefix(pairs), samples_.prefix(pairs));
   flags_.ensure_size(exec.backend, pairs);
   chosen_.ensure_size(exec.backend, pairs);

@@ -102,14 +102,14 @@ TEST(ReducedSim, TenSamplesFollowTheSameTrajectoryAsEveryPoint) {
   EXPECT_LT(largest_difference(reduced_positions({}), reduced_positions(hyper)), kTrajectoryTolerance);
 }
 
-// x̂ after ten substeps of 3 samples in a 32,768-point body under a map that deforms it (stress
-// everywhere), and the last substep's quadrature points.
+// x̂ after ten substeps of deformed_body (stress everywhere), and the last substep's quadrature points.
 struct NeighbourRun {
   std::vector<float> xhat;
   Index quadrature_points = 0;
   std::int64_t newton_steps = 0;
 };
-NeighbourRun run_deformed_body(RomQuadrature quadrature, NeighbourSearch search) {
+// 3 samples (seeded) in a 32,768-point body under a map that deforms it.
+ReducedSim deformed_body(RomQuadrature quadrature, NeighbourSearch search) {
   const mpm::ParticleInit body = test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2,
                                                    1000.0f);
   ReducedOptions options;
@@ -117,8 +117,11 @@ NeighbourRun run_deformed_body(RomQuadrature quadrature, NeighbourSearch search)
   options.samples = 3;
   options.seed = 5;
   options.neighbour_search = search;
-  ReducedSim sim(test::exec(), falling_config(), body, test::small_nonlinear_map(0.25f, 0.5f, 0.003f),
-                 {0.0f, 0.0f, 0.0f}, options);
+  return ReducedSim(test::exec(), falling_config(), body, test::small_nonlinear_map(0.25f, 0.5f, 0.003f),
+                    {0.0f, 0.0f, 0.0f}, options);
+}
+NeighbourRun run_deformed_body(RomQuadrature quadrature, NeighbourSearch search) {
+  ReducedSim sim = deformed_body(quadrature, search);
   EXPECT_EQ(sim.searches_neighbours(), quadrature == RomQuadrature::Lagrangian && search == NeighbourSearch::Always);
   for (int s = 0; s < 10; ++s) sim.substep(kDt);
   return {sim.xhat(), sim.last_quadrature_count(), sim.inversion_iterations()};
@@ -168,15 +171,7 @@ struct SubstepTraffic {
   std::int64_t largest_uploads = 0, largest_downloads = 0;
 };
 SubstepTraffic substep_traffic(RomQuadrature quadrature, NeighbourSearch search) {
-  const mpm::ParticleInit body = test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2,
-                                                   1000.0f);
-  ReducedOptions options;
-  options.quadrature = quadrature;
-  options.samples = 3;
-  options.seed = 5;
-  options.neighbour_search = search;
-  ReducedSim sim(test::exec(), falling_config(), body, test::small_nonlinear_map(0.25f, 0.5f, 0.003f),
-                 {0.0f, 0.0f, 0.0f}, options);
+  ReducedSim sim = deformed_body(quadrature, search);
   for (int s = 0; s < 3; ++s) sim.substep(kDt);
   SubstepTraffic traffic;
   for (int s = 0; s < 12; ++s) {
