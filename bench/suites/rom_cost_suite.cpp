@@ -3,10 +3,12 @@
 // layers of 30) with seeded random weights, so no sweep or training is needed and it runs at sizes whose
 // full-order sweep a machine cannot afford (the tower's 3 million points: --scene scenes/rom/tower.toml
 // --set dx=0.0048). Its displacements are a millimetre: the body barely deforms, so a trained map's
-// Eulerian inversion may take more Newton iterations than this one's. Wall seconds per simulated second
-// are a substep's median time over the run's stable step at t = 0.
+// Eulerian inversion may take more inversion iterations than this one's. Wall seconds per simulated second
+// are a substep's median time over the run's stable step at t = 0. Each setup also records the host
+// traffic (allocations, uploads, downloads) of one substep after the timed ones.
 #include <fmt/format.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,7 @@
 #include "host/reduced_sim.h"
 #include "host/scene/scene_parser.h"
 #include "host/scene/scene_setup.h"
+#include "kernels/core/memory.h"
 
 namespace romp::bench {
 namespace {
@@ -45,6 +48,18 @@ void run_rom_cost_suite(Context& context) {
   const scene::SceneSetup setup = scene::build_scene(scene);
   const Index n = setup.particles.count();
   const rom::DeformationMapWeights map = random_map(geometry::bounds_of_planes(setup.particles.x, n));
+  // The host traffic of one more substep after the timed ones (buffers grown): on a GPU each allocation
+  // synchronises the device and each transfer is a blocking round trip, whatever the kernels' speed.
+  auto traffic_of_one = [&context](const std::string& key, const std::function<void()>& substep) {
+    const memory::Traffic before = memory::traffic();
+    substep();
+    const memory::Traffic after = memory::traffic();
+    context.record(key + ".allocations_per_substep", double(after.allocations - before.allocations));
+    context.record(key + ".uploads_per_substep", double(after.uploads - before.uploads));
+    context.record(key + ".downloads_per_substep", double(after.downloads - before.downloads));
+    return fmt::format("{} allocations, {} uploads, {} downloads", after.allocations - before.allocations,
+                       after.uploads - before.uploads, after.downloads - before.downloads);
+  };
   fmt::print("rom-cost {}: {} material points, dx = {:.4g} m\n", options.scene, n, setup.config.dx);
 
   for (const Exec& exec : context.execs()) {
@@ -56,6 +71,8 @@ void run_rom_cost_suite(Context& context) {
     const std::string place = fmt::format("{}{}", f.backend, f.threads);
     const double full_per_second = f.median_seconds() / full_dt;
     context.record(fmt::format("rom-cost.full_order.{}.wall_per_simulated_second", place), full_per_second);
+    fmt::print("         full_order: host traffic per substep: {}\n",
+               traffic_of_one(fmt::format("rom-cost.full_order.{}", place), [&] { full.substep(full_dt); }));
 
     for (const CostCase& c : kCases)
       for (const int samples : options.rom_samples) {
@@ -80,7 +97,8 @@ void run_rom_cost_suite(Context& context) {
         std::string split;
         for (const auto& [stage, seconds] : sim.stage_seconds())
           split += fmt::format(" {} {:.3g}", stage, 1e3 * seconds / double(sim.steps()));
-        fmt::print("         {}: {:.0f} quadrature points; ms per substep by stage:{}\n", name, quadrature_points, split);
+        fmt::print("         {}: {:.0f} quadrature points; ms per substep by stage:{}; host traffic per substep: {}\n",
+                   name, quadrature_points, split, traffic_of_one(key, [&] { sim.substep(dt); }));
       }
   }
 }
