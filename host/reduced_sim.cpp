@@ -72,15 +72,6 @@ void gather(const Exec& exec, const DeviceBuffer<T>& source, Index source_count,
   gather_planes(exec, source.span(), source_count, components, index, destination.span());
 }
 
-// Uploads `host` into the front of `buffer`, grown when short (DeviceBuffer::ensure_size); returns that front.
-template <class T>
-Span<T> upload_front(const Exec& exec, DeviceBuffer<T>& buffer, const std::vector<T>& host) {
-  const Index n = Index(host.size());
-  buffer.ensure_size(exec.backend, n);
-  upload(exec.backend, buffer.prefix(n), host, exec.stream);
-  return buffer.prefix(n);
-}
-
 double norm(const std::vector<float>& v) {
   double sum = 0.0;
   for (const float value : v) sum += double(value) * double(value);
@@ -417,7 +408,7 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
                             Mat3Planes<float>(quadrature_.F.data(), count), quadrature_.mass.prefix(count),
                             quadrature_.volume0.prefix(count), quadrature_.material.prefix(count),
                             quadrature_.status.prefix(count),
-                            Span<std::int32_t>(inversion_iterations_.data(), count)});
+                            inversion_iterations_.prefix(count)});
   const Span<const std::int32_t> status = quadrature_.status.prefix(count);
   rom::tally_quadrature(exec_, status, inversion_iterations_.prefix(count), quadrature_.mass.prefix(count),
                         tally_.span());
@@ -441,7 +432,7 @@ void ReducedSim::substep(float dt) {
     const std::vector<std::int32_t> chosen = choose_samples();
     m = Index(chosen.size());
     resize_samples(m);
-    gather_reference(upload_front(exec_, sample_index_, chosen), samples_);
+    gather_reference(sample_index_.upload_front(exec_.backend, chosen, exec_.stream), samples_);
   });
 
   // Alg. 3 / 4: the kinematics at x̂_n, v̂_n of the samples and of the quadrature points.

@@ -11,17 +11,6 @@
 #include "kernels/math/rotation.h"
 
 namespace romp {
-namespace {
-
-// The first host.size() elements of `buffer`, which holds as many as the scene can make active at once.
-template <class T>
-Span<T> upload_active(const Exec& exec, DeviceBuffer<T>& buffer, const std::vector<T>& host) {
-  const Span<T> active = buffer.prefix(Index(host.size()));
-  upload(exec.backend, active, host, exec.stream);
-  return active;
-}
-
-}  // namespace
 
 StepInputs::StepInputs(const Exec& exec, const FullOrderConfig& config) : exec_(exec), config_(config) {
   ROMP_CHECK(config.dx > 0.0f, "grid spacing dx must be > 0");
@@ -102,9 +91,10 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   step.wall_contact = config.wall_contact;
   step.wall_friction = config.wall_friction;
   step.materials = materials_.span();
-  step.colliders = upload_active(exec_, colliders_, colliders);
-  step.dirichlet = upload_active(exec_, dirichlet_, motions);
-  step.loads = upload_active(exec_, loads_, loads);
+  // The active ones fill the front of buffers sized for all of them: no allocation.
+  step.colliders = colliders_.upload_front(exec_.backend, colliders, exec_.stream);
+  step.dirichlet = dirichlet_.upload_front(exec_.backend, motions, exec_.stream);
+  step.loads = loads_.upload_front(exec_.backend, loads, exec_.stream);
   step.first_failure = first_failure_.span();
   return step;
 }

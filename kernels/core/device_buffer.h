@@ -26,10 +26,6 @@ std::vector<std::remove_const_t<T>> download(Backend backend, Span<T> device, St
   memory::download(host.data(), device.data(), backend, host.size() * sizeof(T), stream);
   return host;
 }
-template <class T>
-void upload(Backend backend, Span<T> device, const std::vector<std::remove_const_t<T>>& host, Stream stream = nullptr) {
-  upload(backend, device, Span<const T>(host.data(), Index(host.size())), stream);
-}
 
 template <class T>
 class DeviceBuffer {
@@ -94,6 +90,14 @@ class DeviceBuffer {
   // contents are not kept. Use prefix(count) for this step's elements.
   void ensure_size(Backend backend, Index n) {
     if (size_ < n || (backend != backend_ && n > 0)) *this = DeviceBuffer(backend, n + n / 4);
+  }
+  // Uploads `host` into the first host.size() elements, growing the buffer as ensure_size does, and
+  // returns them: a buffer refilled from the host every step without allocating each time.
+  Span<T> upload_front(Backend backend, const std::vector<T>& host, Stream stream = nullptr) {
+    const Index n = Index(host.size());
+    ensure_size(backend, n);
+    upload(backend, prefix(n), Span<const T>(host.data(), n), stream);
+    return prefix(n);
   }
   Span<T> prefix(Index count) { return span().subspan(0, checked_prefix(count)); }
   Span<const T> prefix(Index count) const { return span().subspan(0, checked_prefix(count)); }

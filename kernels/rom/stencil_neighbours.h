@@ -18,7 +18,7 @@ ROMP_HD_INLINE std::uint64_t node_key(int i, int j, int k) {
   return (std::uint64_t(i) << 42) | (std::uint64_t(j) << 21) | std::uint64_t(k);
 }
 
-// Whether `sorted` (increasing) holds `key`: a binary search, the key sets being a few hundred keys.
+// Whether `sorted` (increasing, repeats allowed) holds `key`: a binary search, O(log size) per point.
 ROMP_HD_INLINE bool sorted_contains(Span<const std::uint64_t> sorted, std::uint64_t key) {
   Index low = 0, high = sorted.size();
   while (low < high) {

@@ -117,12 +117,31 @@ TEST(DeviceBuffer, EnsureSizeGrowsWithHeadroomAndOtherwiseKeepsTheStorage) {
 TEST(DeviceBuffer, PrefixTransfersMoveOnlyThatPrefix) {
   const Exec& exec = test::exec();
   DeviceBuffer<float> buffer = DeviceBuffer<float>::from_host(exec.backend, std::vector<float>(10, 9.0f), exec.stream);
-  upload(exec.backend, buffer.prefix(4), ramp(4), exec.stream);
-  EXPECT_EQ(download(exec.backend, buffer.prefix(4), exec.stream), ramp(4));
+  const std::vector<float> four = ramp(4);
+  upload(exec.backend, buffer.prefix(4), Span<const float>(four.data(), 4), exec.stream);
+  EXPECT_EQ(download(exec.backend, buffer.prefix(4), exec.stream), four);
   EXPECT_EQ(download(exec.backend, buffer.span().subspan(4, 1), exec.stream), std::vector<float>{9.0f});
   EXPECT_THROW(buffer.prefix(11), Error);
   EXPECT_THROW(buffer.prefix(-1), Error);
-  EXPECT_THROW(upload(exec.backend, buffer.prefix(3), ramp(4), exec.stream), Error);
+  EXPECT_THROW(upload(exec.backend, buffer.prefix(3), Span<const float>(four.data(), 4), exec.stream), Error);
+}
+
+// upload_front: this step's values at the front, the buffer grown (with headroom) only when they outgrow it.
+TEST(DeviceBuffer, UploadFrontGrowsOnlyWhenTheValuesOutgrowIt) {
+  const Exec& exec = test::exec();
+  DeviceBuffer<float> buffer;
+  EXPECT_EQ(download(exec.backend, buffer.upload_front(exec.backend, ramp(8), exec.stream), exec.stream), ramp(8));
+  EXPECT_EQ(buffer.size(), 10);
+  const memory::Traffic before = memory::traffic();
+  const Span<float> front = buffer.upload_front(exec.backend, ramp(3), exec.stream);
+  EXPECT_EQ(front.size(), 3);
+  EXPECT_EQ(download(exec.backend, front, exec.stream), ramp(3));
+  EXPECT_TRUE(buffer.upload_front(exec.backend, std::vector<float>(), exec.stream).empty());
+  const memory::Traffic after = memory::traffic();
+  EXPECT_EQ(after.allocations, before.allocations);
+  EXPECT_EQ(after.uploads - before.uploads, 1);  // the empty upload costs nothing
+  buffer.upload_front(exec.backend, ramp(11), exec.stream);
+  EXPECT_EQ(buffer.size(), 13);
 }
 
 // Uploads and downloads are counted on either backend (a round trip each on CUDA); empty ones cost
@@ -130,9 +149,10 @@ TEST(DeviceBuffer, PrefixTransfersMoveOnlyThatPrefix) {
 TEST(DeviceBuffer, TransfersAreCounted) {
   const Exec& exec = test::exec();
   DeviceBuffer<float> buffer(exec.backend, 8);
+  const std::vector<float> eight = ramp(8);
   const memory::Traffic before = memory::traffic();
-  buffer.copy_from_host(Span<const float>(ramp(8).data(), 8), exec.stream);
-  upload(exec.backend, buffer.prefix(0), std::vector<float>(), exec.stream);
+  buffer.copy_from_host(Span<const float>(eight.data(), 8), exec.stream);
+  upload(exec.backend, buffer.prefix(0), Span<const float>(), exec.stream);
   (void)buffer.to_host(exec.stream);
   (void)download(exec.backend, buffer.prefix(2), exec.stream);
   const memory::Traffic after = memory::traffic();
