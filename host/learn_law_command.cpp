@@ -33,6 +33,22 @@ CLI::App* add_learn_law_command(CLI::App& app, LearnLawOptions& options) {
                       "Keep states only this many substeps apart and recompute between them in the backward pass")
       ->check(CLI::NonNegativeNumber);
   command->add_option("--seed", options.seed, "Seed of the initial weights")->capture_default_str();
+  command
+      ->add_option("--teacher-forcing-first", options.teacher_forcing_first,
+                   "Substeps between restarts from the ground truth in the first epoch")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command
+      ->add_option("--teacher-forcing-last", options.teacher_forcing_last,
+                   "... rising by cosine annealing to this many in the last epoch (the rollout's --steps: no restart)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command
+      ->add_option("--velocity-weight", options.velocity_weight,
+                   "Add this weight (s^2) times the velocity MSE to the position MSE of every substep (the paper's "
+                   "App. Table 7; 0: positions only)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   command->add_flag("--resume", options.resume, "Continue from <output>.checkpoint");
   command
       ->add_option("--method", options.method,
@@ -116,6 +132,9 @@ int learn_law(DeviceChoice choice, int threads, const LearnLawOptions& options) 
   training.steps = options.steps;
   training.checkpoint_every = options.checkpoint_every;
   training.seed = options.seed;
+  training.teacher_forcing_first = options.teacher_forcing_first;
+  training.teacher_forcing_last = options.teacher_forcing_last;
+  training.velocity_weight = options.velocity_weight;
   nn::LawTrainer trainer(truth.config, truth.trajectory.to(device, torch::kFloat32), training);
 
   const std::string checkpoint = options.output + ".checkpoint";

@@ -12,16 +12,18 @@ namespace {
 using torch::autograd::AutogradContext;
 using torch::autograd::variable_list;
 
-// `steps` substeps with the laws between them; the positions after each, stacked.
+// `steps` substeps with the laws between them; the positions and velocities after each, stacked.
 Rollout run_steps(const DiffMpm& sim, MpmState state, const ConstitutiveLaws& laws, int64_t steps) {
-  std::vector<torch::Tensor> positions;
+  std::vector<torch::Tensor> positions, velocities;
   positions.reserve(size_t(steps));
+  velocities.reserve(size_t(steps));
   for (int64_t s = 0; s < steps; ++s) {
     state = sim.step(state, laws.elastic(state.F));
     if (laws.plastic) state.F = laws.plastic(state.F);
     positions.push_back(state.x);
+    velocities.push_back(state.v);
   }
-  return {torch::stack(positions), state};
+  return {torch::stack(positions), torch::stack(velocities), state};
 }
 
 // What a checkpointed segment needs to run again in its backward pass.
@@ -34,7 +36,7 @@ struct SegmentCapsule : torch::CustomClassHolder {
 
 // A segment of substeps whose forward pass keeps no graph (only its input state) and whose backward
 // pass rebuilds the graph from that state and differentiates it, as torch.utils.checkpoint does.
-// Outputs: positions [steps, 3, n], x, v, C, F.
+// Outputs: positions [steps, 3, n], velocities [steps, 3, n], x, v, C, F.
 class SegmentFunction : public torch::autograd::Function<SegmentFunction> {
  public:
   static variable_list forward(AutogradContext* ctx, const c10::intrusive_ptr<SegmentCapsule>& segment,
@@ -44,7 +46,7 @@ class SegmentFunction : public torch::autograd::Function<SegmentFunction> {
     ctx->saved_data["segment"] = c10::IValue::make_capsule(segment);
     ctx->save_for_backward({x, v, C, F});
     const MpmState& out = result.final_state;
-    return {result.positions, out.x, out.v, out.C, out.F};
+    return {result.positions, result.velocities, out.x, out.v, out.C, out.F};
   }
 
   static variable_list backward(AutogradContext* ctx, variable_list out_gradients) {
@@ -67,7 +69,7 @@ class SegmentFunction : public torch::autograd::Function<SegmentFunction> {
       const Rollout result = run_steps(segment->sim, {state[0], state[1], state[2], state[3]}, segment->laws,
                                        segment->steps);
       const MpmState& out = result.final_state;
-      outputs = {result.positions, out.x, out.v, out.C, out.F};
+      outputs = {result.positions, result.velocities, out.x, out.v, out.C, out.F};
     }
     const variable_list gradients = torch::autograd::grad(outputs, wrt, out_gradients, /*retain_graph=*/false,
                                                           /*create_graph=*/false, /*allow_unused=*/true);
@@ -88,16 +90,17 @@ Rollout rollout(const DiffMpm& sim, const MpmState& initial, const ConstitutiveL
              "rollout: checkpoint_every must be >= 0, got " + std::to_string(options.checkpoint_every));
   if (options.checkpoint_every == 0) return run_steps(sim, initial, laws, options.steps);
 
-  std::vector<torch::Tensor> positions;
+  std::vector<torch::Tensor> positions, velocities;
   MpmState state = initial;
   for (int64_t done = 0; done < options.steps; done += options.checkpoint_every) {
     const int64_t steps = std::min(options.checkpoint_every, options.steps - done);
     const variable_list out = SegmentFunction::apply(c10::make_intrusive<SegmentCapsule>(sim, laws, steps), state.x,
                                                      state.v, state.C, state.F, torch::TensorList(laws.parameters));
     positions.push_back(out[0]);
-    state = {out[1], out[2], out[3], out[4]};
+    velocities.push_back(out[1]);
+    state = {out[2], out[3], out[4], out[5]};
   }
-  return {torch::cat(positions), state};
+  return {torch::cat(positions), torch::cat(velocities), state};
 }
 
 }  // namespace romp::nn

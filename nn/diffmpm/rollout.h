@@ -29,7 +29,8 @@ struct RolloutOptions {
 };
 
 struct Rollout {
-  torch::Tensor positions;  // [steps, 3, n]: x after each substep
+  torch::Tensor positions;   // [steps, 3, n]: x after each substep
+  torch::Tensor velocities;  // [steps, 3, n]: v after each substep
   MpmState final_state;
 };
 

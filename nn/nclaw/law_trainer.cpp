@@ -28,7 +28,7 @@ torch::Tensor options_fingerprint(const TrainingOptions& o) {
   return torch::tensor(std::vector<double>{double(o.epochs), double(o.steps), o.elastic_learning_rate,
                                            o.plastic_learning_rate, o.gradient_clip, o.loss_scale,
                                            double(o.teacher_forcing_first), double(o.teacher_forcing_last),
-                                           double(o.seed), double(o.checkpoint_every)},
+                                           double(o.seed), double(o.checkpoint_every), o.velocity_weight},
                        torch::kFloat64);
 }
 
@@ -44,6 +44,7 @@ void TrainingOptions::validate() const {
              "training: teacher-forcing periods must be positive, got " + std::to_string(teacher_forcing_first) +
                  " and " + std::to_string(teacher_forcing_last));
   ROMP_CHECK(checkpoint_every >= 0, "training: checkpoint_every must be >= 0");
+  ROMP_CHECK(velocity_weight >= 0.0, "training: velocity_weight must be >= 0, got " + std::to_string(velocity_weight));
 }
 
 LawTrainer::LawTrainer(const DiffMpmConfig& config, Trajectory truth, const TrainingOptions& options)
@@ -72,7 +73,8 @@ EpochReport LawTrainer::train_epoch() {
   plastic_optimizer_->zero_grad();
   report.loss = backpropagate_trajectory_loss(
       sim_, truth_, laws_.constitutive(),
-      {options_.steps, report.teacher_forcing_period, options_.loss_scale, options_.checkpoint_every});
+      {options_.steps, report.teacher_forcing_period, options_.loss_scale, options_.checkpoint_every,
+       options_.velocity_weight});
   ROMP_CHECK(std::isfinite(report.loss), "training: the loss of epoch " + std::to_string(report.epoch) +
                                              " is not finite; the laws diverged (try smaller learning rates)");
 
@@ -124,7 +126,7 @@ void LawTrainer::load_checkpoint(const std::string& path) {
   }
   ROMP_CHECK(options.sizes() == options_fingerprint(options_).sizes() && options.equal(options_fingerprint(options_)),
              label + ": written with other training options (epochs, steps, learning rates, clip, loss scale, "
-                     "teacher forcing, seed or checkpoint_every differ)");
+                     "teacher forcing, seed, checkpoint_every or velocity weight differ)");
   ROMP_CHECK(losses.dim() == 1 && losses.size(0) <= options_.epochs,
              label + ": holds " + c10::str(losses.sizes()) + " losses for " + std::to_string(options_.epochs) +
                  " epochs");

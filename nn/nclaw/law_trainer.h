@@ -14,7 +14,7 @@
 
 namespace romp::nn {
 
-// The authors' protocol; every default is theirs.
+// The authors' protocol; every default is theirs (velocity_weight = 0 leaves their loss as it is).
 struct TrainingOptions {
   int64_t epochs = 300;                  // one rollout each; the cosine schedules span them all
   int64_t steps = 1000;                  // substeps per rollout (the trajectory needs steps + 1 frames)
@@ -26,6 +26,7 @@ struct TrainingOptions {
   int64_t teacher_forcing_last = 200;    // ... rising to this one by cosine annealing
   uint64_t seed = 0;                     // initial weights (Xavier uniform)
   int64_t checkpoint_every = 0;          // > 0: recompute each segment from states this many substeps apart
+  double velocity_weight = 0.0;          // beyond App. D.2: the velocity penalty of App. Table 7 (TrajectoryLossOptions)
 
   // Throws romp::Error naming the first option out of range.
   void validate() const;

@@ -1,5 +1,6 @@
 // The training loss of Ma et al. 2023 (App. D.2): positions of a rollout against a ground-truth
-// trajectory, with teacher forcing, backpropagated segment by segment.
+// trajectory (and, optionally, velocities: App. Table 7), with teacher forcing, backpropagated segment
+// by segment.
 #pragma once
 
 #include <cstdint>
@@ -13,8 +14,10 @@ namespace romp::nn {
 struct TrajectoryLossOptions {
   int64_t steps = 1000;                  // substeps compared with frames 1 .. steps
   int64_t teacher_forcing_period = 25;   // the rollout restarts from the ground truth this often
-  double loss_scale = 1e4;               // loss = Σ_steps loss_scale · MSE(x, x_gt)
+  double loss_scale = 1e4;               // loss = Σ_steps loss_scale · (MSE(x, x_gt) + velocity_weight · MSE(v, v_gt))
   int64_t checkpoint_every = 0;          // see RolloutOptions
+  // The velocity-dissimilarity penalty of the paper's App. Table 7 (s²; 0 = positions only, App. D.2).
+  double velocity_weight = 0.0;
 };
 
 // The loss of options.steps substeps of `laws` from frame 0 of `truth`, restarted from the ground
