@@ -188,8 +188,8 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   system_ = DeviceBuffer<double>(backend, Index(latent_) * latent_ + latent_ + 1);
   first_outside_ = DeviceBuffer<std::int64_t>(backend, 1);
   xhat_ = std::move(xhat);
-  xhat_device_ = DeviceBuffer<float>::from_host(backend, xhat_);
-  vhat_device_ = DeviceBuffer<float>(backend, latent_);
+  latent_device_ = DeviceBuffer<float>(backend, 2 * Index(latent_) + 1);
+  upload(backend, xhat_device(), Span<const float>(xhat_.data(), latent_), exec_.stream);
   speed_slot_ = DeviceBuffer<float>(backend, 1);
 
   if (options_.quadrature == RomQuadrature::Lagrangian) {
@@ -213,6 +213,7 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   const DeviceBuffer<float> v0 = DeviceBuffer<float>::from_host(backend, reference.v);
   const std::vector<double> fit = solve_projection(dg_all.span(), Vec3Planes<const float>(v0.data(), n), {}).first;
   vhat_.assign(fit.begin(), fit.end());
+  upload(backend, vhat_device(), Span<const float>(vhat_.data(), latent_), exec_.stream);
   for (Index i = 0; i < 3 * n; ++i) max_sample_speed_ = std::max(max_sample_speed_, std::fabs(reference.v[i]));
   max_sample_speed_ *= std::sqrt(3.0f);  // a bound on |v| from its largest component
   check_latent("the initial projection");
@@ -266,7 +267,7 @@ rom::DeformationMapView<float> ReducedSim::map_view() const {
 }
 
 void ReducedSim::evaluate_map(Vec3Planes<const float> X, const rom::DeformationMapOutputs<float>& out) {
-  rom::evaluate_deformation_map<float>(exec_, map_view(), Span<const float>(xhat_device_.data(), latent_), X, out);
+  rom::evaluate_deformation_map<float>(exec_, map_view(), xhat_device(), X, out);
 }
 
 std::pair<std::vector<double>, double> ReducedSim::solve_projection(Span<const float> dg_dxhat,
@@ -277,11 +278,14 @@ std::pair<std::vector<double>, double> ReducedSim::solve_projection(Span<const f
   std::vector<double> system = system_.to_host(exec_.stream);
   std::vector<double> y(system.begin() + r * r, system.begin() + r * r + r);
   const double squared_residual = system.back();
-  if (!cholesky_solve(r, system.data(), y.data()))
-    throw Error(fmt::format("step {} (t = {:.6g} s): the projection's normal equations are singular (do the "
-                            "samples move with the map at all?)",
-                            steps_, time_));
+  if (!cholesky_solve(r, system.data(), y.data())) throw singular_projection();
   return {y, squared_residual};
+}
+
+Error ReducedSim::singular_projection() const {
+  return Error(fmt::format("step {} (t = {:.6g} s): the projection's normal equations are singular (do the samples "
+                           "move with the map at all?)",
+                           steps_, time_));
 }
 
 std::vector<std::int32_t> ReducedSim::choose_samples() {
@@ -364,7 +368,7 @@ mpm::ParticleView ReducedSim::lagrangian_quadrature(Index m) {
   const Span<float> dg_dxhat(dg_dxhat_.data(), 3 * Index(latent_) * q);
   const Vec3Planes<float> x = search_neighbours_ ? Vec3Planes<float>() : Vec3Planes<float>(quadrature_.x.data(), q);
   evaluate_map(Vec3Planes<const float>(quadrature_.X.data(), q), {x, Mat3Planes<float>(quadrature_.F.data(), q), dg_dxhat});
-  rom::latent_to_point_velocity(exec_, latent_, dg_dxhat, vhat_device_.span(), Vec3Planes<float>(quadrature_.v.data(), q));
+  rom::latent_to_point_velocity(exec_, latent_, dg_dxhat, vhat_device(), Vec3Planes<float>(quadrature_.v.data(), q));
   return quadrature_.view();
 }
 
@@ -399,7 +403,7 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
   rom::InversionOptions inversion;
   inversion.iterations = options_.inversion_iterations;
   inversion.tolerance = options_.inversion_tolerance * dx;
-  rom::eulerian_quadrature(exec_, map_view(), Span<const float>(xhat_device_.data(), latent_), vhat_device_.span(),
+  rom::eulerian_quadrature(exec_, map_view(), xhat_device(), vhat_device(),
                            occupancy_, densities_.span(), dx * dx * dx / float(l * l * l), inversion,
                            Vec3Planes<const float>(quadrature_.x.data(), count),
                            Vec3Planes<const float>(guess), Mat3Planes<const float>(guess_jacobian),
@@ -438,12 +442,10 @@ void ReducedSim::substep(float dt) {
   // Alg. 3 / 4: the kinematics at x̂_n, v̂_n of the samples and of the quadrature points.
   mpm::ParticleView quadrature;
   timed([&] {
-    xhat_device_.copy_from_host(Span<const float>(xhat_.data(), r), exec_.stream);
-    vhat_device_.copy_from_host(Span<const float>(vhat_.data(), r), exec_.stream);
     evaluate_map(Vec3Planes<const float>(samples_.X.data(), m),
                  {Vec3Planes<float>(samples_.x.data(), m), Mat3Planes<float>(samples_.F.data(), m),
                   sample_dg_dxhat_.span()});
-    rom::latent_to_point_velocity(exec_, r, sample_dg_dxhat_.span(), vhat_device_.span(),
+    rom::latent_to_point_velocity(exec_, r, sample_dg_dxhat_.span(), vhat_device(),
                                   Vec3Planes<float>(samples_.v.data(), m));
     quadrature = options_.quadrature == RomQuadrature::Lagrangian ? lagrangian_quadrature(m) : eulerian_quadrature(m);
   });
@@ -486,18 +488,22 @@ void ReducedSim::substep(float dt) {
     return std::pair<std::int64_t, std::string>(point, fmt::format("material point {} (a quadrature point)", point));
   });
 
-  // Alg. 6 / 7: v̂_{n+1} from the trial velocities on the tangent space at x̂_n; then x̂_{n+1}.
+  // Alg. 6 / 7: v̂_{n+1} from the trial velocities on the tangent space at x̂_n; then x̂_{n+1}, solved
+  // where the system is, so that only the new state comes back (one round trip, not three).
   timed([&] {
-    const std::vector<double> v_fit =
-        solve_projection(sample_dg_dxhat_.span(), Vec3Planes<const float>(samples_.v.data(), m), {}).first;
-    std::vector<float> vhat(v_fit.begin(), v_fit.end());
-    std::vector<float> xhat(static_cast<std::size_t>(r));
-    for (int j = 0; j < r; ++j) xhat[j] = xhat_[j] + dt * vhat[j];
+    rom::normal_equations(exec_, r, sample_dg_dxhat_.span(), Vec3Planes<const float>(samples_.v.data(), m), {},
+                          system_.span());
+    rom::advance_latent(exec_, r, system_.span(), dt, latent_device_.span());
+    const std::vector<float> latent = latent_device_.to_host(exec_.stream);
+    if (latent[2 * r] != rom::kLatentSolved) throw singular_projection();
+    std::vector<float> xhat(latent.begin(), latent.begin() + r), vhat(latent.begin() + r, latent.begin() + 2 * r);
     if (options_.projection == RomProjection::PositionVelocity) {
       std::vector<float> guess = xhat;  // the first step has no x̂_{n−1}: x̂_n + Δt v̂_{n+1}
       if (has_previous_)
         for (int j = 0; j < r; ++j) guess[j] = 2.0f * xhat_[j] - xhat_previous_[j];
       xhat = project_positions(guess, m);
+      // Gauss–Newton left its last trial on the device.
+      upload(exec_.backend, xhat_device(), Span<const float>(xhat.data(), r), exec_.stream);
     }
     xhat_previous_ = xhat_;
     has_previous_ = true;
@@ -515,7 +521,7 @@ std::vector<float> ReducedSim::project_positions(const std::vector<float>& guess
   const Vec3Planes<const float> X(samples_.X.data(), m), trial(samples_.x.data(), m), model(model_x_.data(), m);
   // Σ ‖x_trial − g(X; y)‖² and its Gauss–Newton system at y.
   auto linearise = [&](const std::vector<float>& y) {
-    xhat_device_.copy_from_host(Span<const float>(y.data(), r), exec_.stream);
+    upload(exec_.backend, xhat_device(), Span<const float>(y.data(), r), exec_.stream);
     evaluate_map(X, {Vec3Planes<float>(model_x_.data(), m), {}, sample_dg_dxhat_.span()});
     return solve_projection(sample_dg_dxhat_.span(), trial, model);
   };
@@ -593,16 +599,13 @@ ReducedSim::DecodedState ReducedSim::decode(const std::vector<float>& X_host) {
   const Backend backend = exec_.backend;
   const DeviceBuffer<float> X = DeviceBuffer<float>::from_host(backend, X_host, exec_.stream);
   DeviceBuffer<float> x(backend, 3 * n), F(backend, 9 * n), v(backend, 3 * n), dg(backend, 3 * Index(latent_) * n);
-  xhat_device_.copy_from_host(Span<const float>(xhat_.data(), latent_), exec_.stream);
-  vhat_device_.copy_from_host(Span<const float>(vhat_.data(), latent_), exec_.stream);
   evaluate_map(Vec3Planes<const float>(X.data(), n),
                {Vec3Planes<float>(x.data(), n), Mat3Planes<float>(F.data(), n), dg.span()});
-  rom::latent_to_point_velocity(exec_, latent_, dg.span(), vhat_device_.span(), Vec3Planes<float>(v.data(), n));
+  rom::latent_to_point_velocity(exec_, latent_, dg.span(), vhat_device(), Vec3Planes<float>(v.data(), n));
   return {x.to_host(exec_.stream), F.to_host(exec_.stream), v.to_host(exec_.stream)};
 }
 
 std::vector<float> ReducedSim::decode_positions() {
-  xhat_device_.copy_from_host(Span<const float>(xhat_.data(), latent_), exec_.stream);
   DeviceBuffer<float> x(exec_.backend, 3 * points_);
   evaluate_map(Vec3Planes<const float>(X_.data(), points_), {Vec3Planes<float>(x.data(), points_), {}, {}});
   return x.to_host(exec_.stream);

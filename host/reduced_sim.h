@@ -22,6 +22,7 @@
 #include "host/sim_config.h"
 #include "host/step_inputs.h"
 #include "kernels/core/device_buffer.h"
+#include "kernels/core/error.h"
 #include "kernels/core/exec.h"
 #include "kernels/core/index_select.h"
 #include "kernels/math/vec3.h"
@@ -131,9 +132,13 @@ class ReducedSim {
   rom::DeformationMapView<float> map_view() const;
   // Evaluates g at the reference points `X` (n of them) for x̂ on the device.
   void evaluate_map(Vec3Planes<const float> X, const rom::DeformationMapOutputs<float>& out);
-  // Solves the r × r system of rom::normal_equations; returns (y, squared residual at y = 0).
+  Span<float> xhat_device() { return latent_device_.span().subspan(0, latent_); }
+  Span<float> vhat_device() { return latent_device_.span().subspan(latent_, latent_); }
+  // Solves the r × r system of rom::normal_equations on the host; returns (y, squared residual at y = 0).
   std::pair<std::vector<double>, double> solve_projection(Span<const float> dg_dxhat, Vec3Planes<const float> target,
                                                           Vec3Planes<const float> reference);
+  // The error of a projection whose normal equations have no solution.
+  Error singular_projection() const;
   std::vector<float> project_positions(const std::vector<float>& guess, Index samples);
   // Throws NonFiniteError when x̂ or v̂ is not finite after `stage`.
   void check_latent(const char* stage) const;
@@ -199,7 +204,8 @@ class ReducedSim {
   DeviceBuffer<std::int32_t> occupancy_cells_;
   rom::ReferenceOccupancy occupancy_;
   DeviceBuffer<float> densities_;
-  DeviceBuffer<float> xhat_device_, vhat_device_;
+  // [x̂ | v̂ | status] on the device (rom::advance_latent), equal to xhat_ and vhat_ between substeps.
+  DeviceBuffer<float> latent_device_;
   DeviceBuffer<float> speed_slot_;  // mpm::max_particle_speed's result
   DeviceBuffer<double> system_;
 

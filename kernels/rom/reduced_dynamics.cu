@@ -6,6 +6,7 @@
 #include "kernels/core/atomic.h"
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
+#include "kernels/math/cholesky_solve.h"
 
 namespace romp::rom {
 namespace {
@@ -57,6 +58,26 @@ struct NormalEquationEntry {
   }
 };
 
+struct AdvanceLatent {
+  int r;
+  Span<double> system;
+  float dt;
+  Span<float> latent;
+  ROMP_HD void operator()(Index) const {
+    double* c = system.data() + r * r;
+    if (!cholesky_solve(r, system.data(), c)) {
+      latent[2 * r] = kLatentSingular;
+      return;
+    }
+    for (int j = 0; j < r; ++j) {
+      const float vhat = float(c[j]);
+      latent[r + j] = vhat;
+      latent[j] = latent[j] + dt * vhat;
+    }
+    latent[2 * r] = kLatentSolved;
+  }
+};
+
 struct FindPointOutside {
   Vec3Planes<const float> x;
   Vec3<float> low, high;
@@ -94,6 +115,14 @@ void normal_equations(const Exec& exec, int latent, Span<const float> dg_dxhat, 
   const Index entries = Index(latent) * latent + latent + 1;
   ROMP_CHECK(system.size() == entries, "the system needs r² + r + 1 values");
   for_each(exec, entries, NormalEquationEntry{latent, dg_dxhat, target, reference, system});
+}
+
+void advance_latent(const Exec& exec, int latent_size, Span<double> system, float dt, Span<float> latent) {
+  ROMP_CHECK(latent_size >= 1, "the latent size r must be >= 1");
+  const Index r = latent_size;
+  ROMP_CHECK(system.size() == r * r + r + 1, "the system needs r² + r + 1 values");
+  ROMP_CHECK(latent.size() == 2 * r + 1, "the latent state needs x̂, v̂ and a status: 2 r + 1 values");
+  for_each(exec, 1, AdvanceLatent{latent_size, system, dt, latent});
 }
 
 }  // namespace romp::rom

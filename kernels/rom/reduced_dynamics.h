@@ -24,6 +24,14 @@ void latent_to_point_velocity(const Exec& exec, int latent, Span<const float> dg
 void normal_equations(const Exec& exec, int latent, Span<const float> dg_dxhat, Vec3Planes<const float> target,
                       Vec3Planes<const float> reference, Span<double> system);
 
+// The velocity projection's last step (ROM paper, Alg. 6–7) where its system is: solves the normal
+// equations in `system` (normal_equations of the samples' trial velocities; A and c are overwritten by
+// the Cholesky factor and the solution) for v̂_{n+1}, then x̂_{n+1} = x̂_n + dt v̂_{n+1}, in
+// `latent` = [x̂ (r) | v̂ (r) | status (1)], r = `latent_size`. Status 0: solved; 1: the system is singular
+// (x̂ and v̂ are left as they were). One thread: r is small; what it saves is the round trip of the system.
+inline constexpr float kLatentSolved = 0.0f, kLatentSingular = 1.0f;
+void advance_latent(const Exec& exec, int latent_size, Span<double> system, float dt, Span<float> latent);
+
 // Lowers first[0] (set to kNoPointOutside beforehand) to the lowest index of the n points outside the box
 // [low, high] on some axis; a non-finite coordinate counts as outside. The reduced state decodes to points
 // anywhere its map sends them, so this is how a run finds that x̂ has left what the grid can hold.
