@@ -115,6 +115,16 @@ template <class T>
 ROMP_MATH_INLINE T trace(const Mat3<T>& a) { return a.m[0][0] + a.m[1][1] + a.m[2][2]; }
 template <class T>
 ROMP_MATH_INLINE T determinant(const Mat3<T>& a) { return dot(a.row(0), cross(a.row(1), a.row(2))); }
+// x = a⁻¹ r by Cramer's rule (the columns of det(a) a⁻¹ are the cross products of a's rows), where
+// det a > 0; returns false, leaving x alone, for an inverted or degenerate a (or a non-finite det).
+template <class T>
+ROMP_MATH_INLINE bool solve_where_positive(const Mat3<T>& a, const Vec3<T>& r, Vec3<T>& x) {
+  const Vec3<T> r0 = a.row(0), r1 = a.row(1), r2 = a.row(2);
+  const T det = dot(r0, cross(r1, r2));
+  if (!(det > T(0))) return false;
+  x = (r[0] * cross(r1, r2) + r[1] * cross(r2, r0) + r[2] * cross(r0, r1)) * (T(1) / det);
+  return true;
+}
 // Σ a_ij b_ij, the Frobenius inner product (a double contraction a : b).
 template <class T>
 ROMP_MATH_INLINE T inner(const Mat3<T>& a, const Mat3<T>& b) {

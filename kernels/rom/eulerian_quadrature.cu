@@ -30,15 +30,6 @@ struct EulerianPoint {
   Mat3Planes<const float> F_guess;
   EulerianPointsOut out;
 
-  // F⁻¹ r by Cramer's rule: the columns of det(F) F⁻¹ are the cross products of F's rows.
-  ROMP_HD static bool solve(const Mat3<float>& F, const Vec3<float>& r, Vec3<float>& delta) {
-    const Vec3<float> r0 = F.row(0), r1 = F.row(1), r2 = F.row(2);
-    const float det = dot(r0, cross(r1, r2));
-    if (!(det > 0.0f)) return false;  // an inverted or degenerate map has no usable inverse here
-    delta = (r[0] * cross(r1, r2) + r[1] * cross(r2, r0) + r[2] * cross(r0, r1)) * (1.0f / det);
-    return true;
-  }
-
   ROMP_HD Vec3<float> g_at(const Vec3<float>& X) const {
     Vec3<float> g;
     evaluate_map_point(map, xhat, X, g, static_cast<Mat3<float>*>(nullptr), static_cast<float*>(nullptr), 0);
@@ -57,7 +48,7 @@ struct EulerianPoint {
       if (residual <= options.tolerance) return true;
       Vec3<float> delta;
       bool descended = false;
-      if (solve(B, g - target, delta)) {
+      if (solve_where_positive(B, g - target, delta)) {
         float alpha = 1.0f;
         for (int halving = 0; halving <= (exact ? kHalvings : kBroydenHalvings) && !descended;
              ++halving, alpha *= 0.5f) {

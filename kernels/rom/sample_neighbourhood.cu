@@ -94,12 +94,9 @@ struct EulerianCandidate {
     Mat3<double> F_d;
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) F_d(r, c) = F(r, c);
-    // F⁻¹ (x − x_s) from the rows' cross products.
-    const double det = determinant(F_d);
-    const Vec3<double> r0 = F_d.row(0), r1 = F_d.row(1), r2 = F_d.row(2);
-    const Vec3<double> step =
-        det > 0.0 ? (offset[0] * cross(r1, r2) + offset[1] * cross(r2, r0) + offset[2] * cross(r0, r1)) * (1.0 / det)
-                  : offset;
+    // F⁻¹ (x − x_s), or x − x_s itself where F is inverted or singular.
+    Vec3<double> step = offset;
+    solve_where_positive(F_d, offset, step);
     x.store(t, point);
     X_guess.store(t, Vec3<float>(float(sample_X[0] + step[0]), float(sample_X[1] + step[1]),
                                  float(sample_X[2] + step[2])));

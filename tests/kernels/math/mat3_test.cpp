@@ -36,6 +36,24 @@ TEST(Mat3, DeterminantTraceAndNorms) {
   EXPECT_DOUBLE_EQ(determinant(Mat3<double>::identity()), 1);
 }
 
+TEST(Mat3, SolvesWhereTheDeterminantIsPositive) {
+  ASSERT_GT(determinant(kA), 0.0);
+  const Vec3<double> r(1.0, -2.0, 0.5);
+  Vec3<double> x;
+  ASSERT_TRUE(solve_where_positive(kA, r, x));
+  const Vec3<double> back = kA * x;
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(back[a], r[a], 1e-12) << a;
+
+  // Inverted (one row negated) and singular matrices are refused, and x is left alone.
+  const Vec3<double> untouched(7.0, 8.0, 9.0);
+  Mat3<double> inverted = kA;
+  for (int c = 0; c < 3; ++c) inverted(0, c) = -kA(0, c);
+  x = untouched;
+  EXPECT_FALSE(solve_where_positive(inverted, r, x));
+  EXPECT_FALSE(solve_where_positive(Mat3<double>(1, 2, 3, 2, 4, 6, 0, 1, 1), r, x));
+  for (int a = 0; a < 3; ++a) EXPECT_EQ(x[a], untouched[a]);
+}
+
 TEST(Mat3, ConstructorsAgree) {
   const Vec3<double> a(1, 2, 3), b(-1, 0, 2);
   EXPECT_EQ(Mat3<double>::from_rows(kA.row(0), kA.row(1), kA.row(2)), kA);
