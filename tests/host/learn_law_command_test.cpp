@@ -70,6 +70,33 @@ TEST_F(LearnLawCommand, ResumeContinuesACheckpointAndNeedsOne) {
   EXPECT_EQ(law.training.loss[0], first_loss);
 }
 
+// --teacher-forcing-first/-last and --velocity-weight reach the trainer: the first epoch's loss is that
+// of a trainer given the same options, not the default one's; and a checkpoint of other options is refused.
+TEST_F(LearnLawCommand, PassesTheScheduleAndTheVelocityWeightToTheTrainer) {
+  options_.epochs = 1;
+  options_.teacher_forcing_first = options_.teacher_forcing_last = 4;
+  options_.velocity_weight = 0.01;
+  EXPECT_EQ(learn_law(DeviceChoice::Cpu, 1, options_), 0);
+  const double loss = nn::read_law_file(options_.output).training.loss.at(0);
+
+  const nclaw::GroundTruth truth = nclaw::read_ground_truth(options_.trajectory, options_.steps);
+  nn::TrainingOptions training;
+  training.epochs = 1;
+  training.steps = options_.steps;
+  const double default_loss = nn::LawTrainer(truth.config, truth.trajectory, training).train_epoch().loss;
+  training.teacher_forcing_first = training.teacher_forcing_last = 4;
+  training.velocity_weight = 0.01;
+  nn::LawTrainer same(truth.config, truth.trajectory, training);
+  EXPECT_EQ(loss, same.train_epoch().loss);
+  EXPECT_NE(loss, default_loss);
+
+  same.save_checkpoint(options_.output + ".checkpoint");
+  LearnLawOptions other = options_;
+  other.resume = true;
+  other.velocity_weight = 0.02;
+  EXPECT_THROW(learn_law(DeviceChoice::Cpu, 1, other), Error);
+}
+
 // The labeled oracle fits the jelly's (F, P) pairs, so that its free rollout follows the trajectory
 // far better than the same laws before the fit, and for an elastic material makes the plastic law F itself.
 TEST_F(LearnLawCommand, LabeledOracleFitsTheGroundTruthsStress) {
