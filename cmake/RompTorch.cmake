@@ -18,6 +18,15 @@ if(NOT Torch_DIR)
   endif()
 endif()
 
+# TorchConfig.cmake finds its Caffe2 package and its libraries with PATHS hints, which CMake searches
+# after the system's folders: where Debian's libtorch-dev is installed too, a Torch_DIR of PyTorch's
+# wheel would otherwise mix the wheel's headers with Debian's libraries. Its install prefix (the folder
+# that holds share/cmake/Torch) goes first.
+if(Torch_DIR)
+  get_filename_component(_romp_torch_install_prefix "${Torch_DIR}/../../.." ABSOLUTE)
+  list(PREPEND CMAKE_PREFIX_PATH "${_romp_torch_install_prefix}")
+endif()
+
 set(_romp_saved_cuda_arch "${CMAKE_CUDA_ARCHITECTURES}")
 set(_romp_saved_cuda_flags "${CMAKE_CUDA_FLAGS}")
 find_package(Torch REQUIRED)
@@ -38,7 +47,13 @@ endif()
 # One interface target for the C++ code that uses Torch: its flags, its libraries, and the
 # information `romp info` reports.
 add_library(romp_torch INTERFACE)
-target_link_libraries(romp_torch INTERFACE ${TORCH_LIBRARIES})
+# PyTorch's wheel links parts of its own libstdc++ (std::filesystem, the chrono time zones) into
+# libtorch.so and libtorch_cpu.so and exports them. The linker binds each undefined symbol to the
+# first shared library on the link line that defines it, and the loader searches libraries in that
+# same order, so romp's calls of std::filesystem went to LibTorch's copies, which crash (remove_all
+# jumps to address 0). libstdc++ named ahead of LibTorch keeps the system's standard library the one
+# romp calls (tests/nn/runtime_libraries_test.cpp).
+target_link_libraries(romp_torch INTERFACE stdc++ ${TORCH_LIBRARIES})
 target_compile_definitions(romp_torch INTERFACE ROMP_TORCH_CUDA=$<BOOL:${ROMP_TORCH_CUDA}>)
 # The libstdc++ ABI LibTorch was built with must hold for every romp object, not only the ones
 # that include Torch headers: std::string crosses between all the libraries.
