@@ -1,15 +1,6 @@
 # Script mode (cmake -P): fills build_info.cpp.in with the current commit and the configuration.
-execute_process(COMMAND git -C "${SOURCE_DIR}" rev-parse --short=12 HEAD
-  OUTPUT_VARIABLE ROMP_COMMIT OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET RESULT_VARIABLE rc)
-if(NOT rc EQUAL 0 OR ROMP_COMMIT STREQUAL "")
-  set(ROMP_COMMIT "unknown")
-else()
-  execute_process(COMMAND git -C "${SOURCE_DIR}" status --porcelain --untracked-files=no
-    OUTPUT_VARIABLE dirty OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
-  if(NOT dirty STREQUAL "")
-    string(APPEND ROMP_COMMIT "-dirty")
-  endif()
-endif()
+include("${SOURCE_DIR}/cmake/RompCommit.cmake")
+romp_source_commit("${SOURCE_DIR}" ROMP_COMMIT)
 foreach(flag ROMP_WITH_CUDA ROMP_TORCH_CUDA)
   if(${flag})
     set(${flag}_CXX true)
