@@ -28,7 +28,10 @@ torch::Device torch_device(const Exec& exec) {
 }
 
 TorchStreamScope::TorchStreamScope(const Exec& exec) {
-  if (!exec.is_cuda()) return;
+  if (!exec.is_cuda()) {
+    cpu_access_.emplace();
+    return;
+  }
 #if ROMP_TORCH_CUDA
   const auto device = static_cast<c10::DeviceIndex>(exec.device);
   guard_.emplace(c10::cuda::getStreamFromExternal(exec.stream, device).unwrap());

@@ -10,6 +10,7 @@
 
 #include "kernels/core/error.h"
 #include "kernels/core/exec.h"
+#include "kernels/core/guarded_memory.h"
 #include "kernels/core/span.h"
 
 namespace romp::nn {
@@ -23,13 +24,15 @@ Exec exec_for(const torch::Tensor& tensor);
 
 // While alive, LibTorch queues its work for `exec`'s CUDA device on exec.stream, so torch ops on
 // tensors that alias engine memory run in order with romp's kernels on that stream, with no
-// synchronisation. Does nothing for the CPU.
+// synchronisation. On the CPU those ops are the device's work: they may touch guarded memory
+// (kernels/core/guarded_memory.h).
 class TorchStreamScope {
  public:
   explicit TorchStreamScope(const Exec& exec);
 
  private:
   std::optional<c10::StreamGuard> guard_;
+  std::optional<memory::DeviceAccess> cpu_access_;
 };
 
 // A tensor of `shape` that aliases `span` (no copy). The span must outlive the tensor.

@@ -12,6 +12,7 @@
 
 #include "kernels/core/error.h"
 #include "kernels/core/exec.h"
+#include "kernels/core/guarded_memory.h"
 #include "kernels/core/hd.h"
 
 #if defined(__CUDACC__)
@@ -27,6 +28,7 @@ inline int cpu_threads(const Exec& exec) { return exec.threads > 0 ? exec.thread
 template <class F>
 void for_each_cpu(const Exec& exec, Index n, const F& functor) {
   const int threads = cpu_threads(exec);
+  const memory::DeviceAccess launch;
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (Index i = 0; i < n; ++i) functor(i);
 }

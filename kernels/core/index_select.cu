@@ -5,6 +5,7 @@
 #include <string>
 
 #include "kernels/core/error.h"
+#include "kernels/core/guarded_memory.h"
 
 #if defined(__CUDACC__)
 #include <thrust/iterator/counting_iterator.h>
@@ -48,10 +49,16 @@ Index IndexSelector::operator()(const Exec& exec, Span<const std::int32_t> flags
     throw Error("IndexSelector on CUDA from a translation unit not compiled by nvcc");
 #endif
   }
-  Index count = 0;
-  for (Index i = 0; i < n; ++i)
-    if (equals(std::int32_t(i))) selected[count++] = std::int32_t(i);
-  return count;
+  count_.ensure_size(exec.backend, 1);
+  {
+    const memory::DeviceAccess launch;  // the CPU's stand-in for DeviceSelect
+    std::int32_t count = 0;
+    for (Index i = 0; i < n; ++i)
+      if (equals(std::int32_t(i))) selected[count++] = std::int32_t(i);
+    count_.data()[0] = count;
+  }
+  // The count comes back as on the device, so host traffic counted on the CPU is the GPU's.
+  return Index(download(exec.backend, count_.prefix(1), exec.stream)[0]);
 }
 
 }  // namespace romp

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "kernels/core/error.h"
+#include "kernels/core/guarded_memory.h"
 
 #if defined(ROMP_WITH_CUDA)
 #include "kernels/core/cuda_check.h"
@@ -34,6 +35,11 @@ void* allocate(Backend backend, std::size_t bytes) {
   if (bytes == 0) return nullptr;
   allocations.fetch_add(1, std::memory_order_relaxed);
   if (backend == Backend::Cpu) {
+    if (guard_enabled()) {
+      void* pointer = guarded::allocate(bytes);
+      ROMP_CHECK(pointer != nullptr, "out of guarded host memory allocating " + std::to_string(bytes) + " bytes");
+      return pointer;
+    }
     const std::size_t rounded = (bytes + kHostAlignment - 1) / kHostAlignment * kHostAlignment;
     void* pointer = std::aligned_alloc(kHostAlignment, rounded);
     ROMP_CHECK(pointer != nullptr, "out of host memory allocating " + std::to_string(bytes) + " bytes");
@@ -51,7 +57,7 @@ void* allocate(Backend backend, std::size_t bytes) {
 void release(Backend backend, void* pointer) noexcept {
   if (pointer == nullptr) return;
   if (backend == Backend::Cpu) {
-    std::free(pointer);
+    if (!guarded::release(pointer)) std::free(pointer);
     return;
   }
 #if defined(ROMP_WITH_CUDA)
@@ -63,6 +69,7 @@ void copy(void* destination, Backend destination_backend, const void* source, Ba
           std::size_t bytes, Stream stream) {
   if (bytes == 0) return;
   if (destination_backend == Backend::Cpu && source_backend == Backend::Cpu) {
+    const DeviceAccess transfer;
     std::memcpy(destination, source, bytes);
     return;
   }
@@ -96,6 +103,7 @@ Traffic traffic() {
 void fill_zero(void* destination, Backend backend, std::size_t bytes, Stream stream) {
   if (bytes == 0) return;
   if (backend == Backend::Cpu) {
+    const DeviceAccess transfer;
     std::memset(destination, 0, bytes);
     return;
   }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "kernels/core/error.h"
+#include "kernels/core/guarded_memory.h"
 
 #if defined(__CUDACC__)
 #include <cub/device/device_radix_sort.cuh>
@@ -33,6 +34,7 @@ std::pair<Span<const std::uint64_t>, Span<const std::int32_t>> PairSorter::opera
     throw Error("PairSorter on CUDA from a translation unit not compiled by nvcc");
 #endif
   } else {
+    const memory::DeviceAccess launch;  // the CPU's stand-in for the device sort
     std::vector<Index> order(static_cast<std::size_t>(n));
     std::iota(order.begin(), order.end(), Index(0));
     std::stable_sort(order.begin(), order.end(), [&keys](Index a, Index b) { return keys[a] < keys[b]; });

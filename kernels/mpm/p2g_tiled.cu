@@ -134,6 +134,7 @@ void particle_to_grid_tiled(const Exec& exec, const ParticleView& particles, con
   }
   const int threads = exec.threads > 0 ? exec.threads : omp_get_max_threads();
   const TiledBlockToGrid run{particles, grid, step, block_starts};
+  const memory::DeviceAccess launch;
   // Blocks hold very different particle counts: hand them out a few at a time.
 #pragma omp parallel for schedule(dynamic, 4) num_threads(threads)
   for (Index block = 0; block < blocks; ++block) run(block);

@@ -116,11 +116,17 @@ Index run_starts(const Exec& exec, BlockSortScratch& scratch, DeviceBuffer<std::
     throw Error("run_starts on CUDA from a translation unit not compiled by nvcc");
 #endif
   }
-  Index count = 0;
-  for (Index p = 0; p < n; ++p)
-    if (p == 0 || keys.data()[p] != keys.data()[p - 1]) starts.data()[count++] = std::int32_t(p);
-  starts.data()[count] = std::int32_t(n);
-  return count;
+  DeviceBuffer<std::int32_t>& runs = sized(scratch.run_count, keys.backend(), 1);
+  {
+    const memory::DeviceAccess launch;  // the CPU's stand-in for DeviceRunLengthEncode and the scan
+    std::int32_t count = 0;
+    for (Index p = 0; p < n; ++p)
+      if (p == 0 || keys.data()[p] != keys.data()[p - 1]) starts.data()[count++] = std::int32_t(p);
+    starts.data()[count] = std::int32_t(n);
+    runs.data()[0] = count;
+  }
+  // The count comes back as on the device, so host traffic counted on the CPU is the GPU's.
+  return runs.to_host(exec.stream)[0];
 }
 
 // Sorts scratch.order by scratch.keys, and on CUDA the keys with it (the CPU sort orders `order` alone).
@@ -150,6 +156,7 @@ void sort_pairs(const Exec& exec, BlockSortScratch& scratch, const DeviceBuffer<
   }
   // CPU: ties broken by the initial index (unique), so the permutation does not depend on the order
   // the particles arrived in.
+  const memory::DeviceAccess launch;  // the CPU's stand-in for the device sort
   const std::uint64_t* k = keys.data();
   const std::int32_t* initial = id.data();
   std::sort(order.data(), order.data() + n, [k, initial](std::int32_t a, std::int32_t b) {

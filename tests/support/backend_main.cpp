@@ -1,10 +1,13 @@
-// main() for test binaries whose tests run on either backend: --backend=cpu|cuda picks the Exec.
+// main() for test binaries whose tests run on either backend: --backend=cpu|cuda picks the Exec;
+// --backend=guarded is the CPU with device memory guarded (kernels/core/guarded_memory.h), so host
+// code that touches it crashes here as it would on a GPU.
 #include <gtest/gtest.h>
 
 #include <iostream>
 #include <string>
 
 #include "kernels/core/device.h"
+#include "kernels/core/guarded_memory.h"
 #include "tests/support/test_exec.h"
 
 namespace romp::test {
@@ -35,8 +38,10 @@ int main(int argc, char** argv) {
     const std::string argument = argv[i];
     if (argument == "--backend=cuda") {
       cuda = true;
+    } else if (argument == "--backend=guarded") {
+      romp::memory::enable_guard();
     } else if (argument != "--backend=cpu") {
-      std::cerr << "unknown argument '" << argument << "'; expected --backend=cpu or --backend=cuda\n";
+      std::cerr << "unknown argument '" << argument << "'; expected --backend=cpu, --backend=guarded or --backend=cuda\n";
       return 2;
     }
   }

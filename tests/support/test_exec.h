@@ -5,7 +5,7 @@
 
 namespace romp::test {
 
-// Exec::cpu() for `--backend=cpu` (the default), Exec::cuda() for `--backend=cuda`. With
+// Exec::cpu() for `--backend=cpu` (the default) and `--backend=guarded`, Exec::cuda() for `--backend=cuda`. With
 // --backend=cuda and no device, every test is skipped before it starts.
 const Exec& exec();
 
