@@ -22,6 +22,8 @@ NeuralMaterials::NeuralMaterials(const Exec& exec, const std::vector<MaterialSpe
     if (materials[m].params.model != material::MaterialModel::Neural) continue;
     ROMP_CHECK(!materials[m].neural_law.empty(), "material " + std::to_string(m) + " is neural but names no law file");
     nn::NeuralLaws laws = nn::read_law_file(materials[m].neural_law).laws;
+    // On the engine's stream, so that its kernels find the weights in place without a synchronisation.
+    const nn::TorchStreamScope stream(exec);
     laws.to(nn::torch_device(exec), torch::kFloat32);
     laws_.push_back({std::int32_t(m), std::move(laws)});
   }
