@@ -393,6 +393,8 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
     quadrature_.id.copy_from_host(Span<const std::int32_t>(ids.data(), capacity), exec_.stream);
   }
   inversion_iterations_.ensure_size(exec_.backend, count);
+  map_evaluations_.ensure_size(exec_.backend, count);
+  jacobian_evaluations_.ensure_size(exec_.backend, count);
   guesses_.ensure_size(exec_.backend, 3 * count);
   guess_jacobians_.ensure_size(exec_.backend, 9 * count);
   const Vec3Planes<float> guess(guesses_.data(), count);
@@ -403,19 +405,22 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
   rom::InversionOptions inversion;
   inversion.iterations = options_.inversion_iterations;
   inversion.tolerance = options_.inversion_tolerance * dx;
-  rom::eulerian_quadrature(exec_, map_view(), xhat_device(), vhat_device(),
-                           occupancy_, densities_.span(), dx * dx * dx / float(l * l * l), inversion,
-                           Vec3Planes<const float>(quadrature_.x.data(), count),
-                           Vec3Planes<const float>(guess), Mat3Planes<const float>(guess_jacobian),
-                           {Vec3Planes<float>(quadrature_.X.data(), count),
-                            Vec3Planes<float>(quadrature_.v.data(), count),
-                            Mat3Planes<float>(quadrature_.F.data(), count), quadrature_.mass.prefix(count),
-                            quadrature_.volume0.prefix(count), quadrature_.material.prefix(count),
-                            quadrature_.status.prefix(count),
-                            inversion_iterations_.prefix(count)});
+  const rom::EulerianPointsOut points{Vec3Planes<float>(quadrature_.X.data(), count),
+                                     Vec3Planes<float>(quadrature_.v.data(), count),
+                                     Mat3Planes<float>(quadrature_.F.data(), count),
+                                     quadrature_.mass.prefix(count),
+                                     quadrature_.volume0.prefix(count),
+                                     quadrature_.material.prefix(count),
+                                     quadrature_.status.prefix(count),
+                                     inversion_iterations_.prefix(count),
+                                     map_evaluations_.prefix(count),
+                                     jacobian_evaluations_.prefix(count)};
+  rom::eulerian_quadrature(exec_, map_view(), xhat_device(), vhat_device(), occupancy_, densities_.span(),
+                           dx * dx * dx / float(l * l * l), inversion,
+                           Vec3Planes<const float>(quadrature_.x.data(), count), Vec3Planes<const float>(guess),
+                           Mat3Planes<const float>(guess_jacobian), points);
+  rom::tally_quadrature(exec_, points, count, tally_.span());
   const Span<const std::int32_t> status = quadrature_.status.prefix(count);
-  rom::tally_quadrature(exec_, status, inversion_iterations_.prefix(count), quadrature_.mass.prefix(count),
-                        tally_.span());
   // Points outside the body (or unconverged) carry no mass; P2G would evaluate a stress and activate
   // grid blocks for each of them, so the used points are gathered into a set of their own, P2G's.
   used_index_.ensure_size(exec_.backend, count);

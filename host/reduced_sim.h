@@ -110,6 +110,14 @@ class ReducedSim {
   }
   // Iterations of g's inversion so far, summed over the Eulerian points.
   std::int64_t inversion_iterations() const { return quadrature_tally().iterations; }
+  // Evaluations of g at the Eulerian points so far, and those of them that also gave both Jacobians.
+  std::int64_t eulerian_map_evaluations() const { return quadrature_tally().evaluations; }
+  std::int64_t eulerian_jacobian_evaluations() const { return quadrature_tally().jacobian_evaluations; }
+  // Eulerian points inverted so far (used, outside or unconverged), summed over the substeps.
+  std::int64_t eulerian_points() const {
+    const rom::QuadratureTally tally = quadrature_tally();
+    return tally.points[0] + tally.points[1] + tally.points[2];
+  }
   // The Eulerian quadrature's mass in the last substep (kg): with every point sampled, the body's mass.
   double last_quadrature_mass() const { return quadrature_tally().last_mass; }
   // Lagrangian quadrature: whether it searches the samples' neighbours.
@@ -183,6 +191,7 @@ class ReducedSim {
   // CUDA synchronises the device); this step's elements are their prefix.
   DeviceBuffer<std::int32_t> used_index_;
   DeviceBuffer<std::int32_t> inversion_iterations_;  // per Eulerian point, this substep
+  DeviceBuffer<std::int32_t> map_evaluations_, jacobian_evaluations_;  // likewise
   DeviceBuffer<rom::QuadratureTally> tally_;         // Eulerian: the running totals
   IndexSelector select_indices_;                     // the used points' and the neighbours' indices
   DeviceBuffer<float> guesses_, guess_jacobians_;    // Eulerian: each point's first X and ∂g/∂X there

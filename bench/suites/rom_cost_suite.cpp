@@ -94,11 +94,26 @@ void run_rom_cost_suite(Context& context) {
                                              ? double(sim.last_quadrature_count())
                                              : double(sim.lagrangian_quadrature_points()) / double(sim.steps());
         context.record(key + ".quadrature_points_per_substep", quadrature_points);
+        std::string evaluations;
+        if (c.quadrature == RomQuadrature::Eulerian && sim.eulerian_points() > 0) {
+          // What inverting g costs per point: evaluations of g, those with both Jacobians (each three
+          // reverse sweeps more), and the quasi-Newton iterations.
+          const double points = double(sim.eulerian_points());
+          const double per_point[3] = {double(sim.eulerian_map_evaluations()) / points,
+                                       double(sim.eulerian_jacobian_evaluations()) / points,
+                                       double(sim.inversion_iterations()) / points};
+          context.record(key + ".map_evaluations_per_eulerian_point", per_point[0]);
+          context.record(key + ".jacobian_evaluations_per_eulerian_point", per_point[1]);
+          context.record(key + ".inversion_iterations_per_eulerian_point", per_point[2]);
+          evaluations = fmt::format("; per Eulerian point and substep: {:.2f} evaluations of g ({:.2f} with the "
+                                    "Jacobians), {:.2f} iterations",
+                                    per_point[0], per_point[1], per_point[2]);
+        }
         std::string split;
         for (const auto& [stage, seconds] : sim.stage_seconds())
           split += fmt::format(" {} {:.3g}", stage, 1e3 * seconds / double(sim.steps()));
-        fmt::print("         {}: {:.0f} quadrature points; ms per substep by stage:{}; host traffic per substep: {}\n",
-                   name, quadrature_points, split, traffic_of_one(key, [&] { sim.substep(dt); }));
+        fmt::print("         {}: {:.0f} quadrature points{}; ms per substep by stage:{}; host traffic per substep: {}\n",
+                   name, quadrature_points, evaluations, split, traffic_of_one(key, [&] { sim.substep(dt); }));
       }
   }
 }

@@ -12,6 +12,11 @@
 
 #include "kernels/core/hd.h"
 
+#if defined(__CUDACC__)
+#include <cooperative_groups.h>
+#include <cooperative_groups/reduce.h>
+#endif
+
 namespace romp {
 namespace detail {
 
@@ -143,6 +148,22 @@ ROMP_HD_INLINE std::uint64_t atomic_cas(std::uint64_t* address, std::uint64_t ex
 #else
   __atomic_compare_exchange_n(address, &expected, desired, /*weak=*/false, __ATOMIC_RELAXED, __ATOMIC_RELAXED);
   return expected;
+#endif
+}
+
+// atomic_add for many threads adding into one address (a running total): on the device the threads of
+// a warp that call it together add their values first (cooperative groups' reduce over the active
+// lanes) and one of them adds the sum, a 32nd of the atomics that serialise at the address. The same
+// total as atomic_add; floating-point sums in another order. Returns nothing: no lane sees a prefix.
+template <class T>
+ROMP_HD_INLINE void atomic_add_to_total(T* address, T value) {
+#if defined(__CUDA_ARCH__)
+  namespace cg = cooperative_groups;
+  const cg::coalesced_group active = cg::coalesced_threads();
+  const T sum = cg::reduce(active, value, cg::plus<T>());
+  if (active.thread_rank() == 0) atomic_add(address, sum);
+#else
+  atomic_add(address, value);
 #endif
 }
 

@@ -21,6 +21,17 @@
 #define ROMP_SIMD_SUM(sum) ROMP_PRAGMA(omp simd reduction(+ : sum))
 #endif
 
+// ROMP_UNROLL before a loop with a compile-time trip count: fully unrolled on the device, so that arrays
+// indexed by its counter stay in registers (a runtime index puts them in local memory). Nothing on the
+// host, whose compiler unrolls by its own measure.
+#if defined(__CUDA_ARCH__)
+#define ROMP_UNROLL ROMP_PRAGMA(unroll)
+#define ROMP_NO_UNROLL ROMP_PRAGMA(unroll 1)
+#else
+#define ROMP_UNROLL
+#define ROMP_NO_UNROLL
+#endif
+
 namespace romp {
 
 // Element counts and indices. 64-bit so particle and node counts never overflow.

@@ -1,31 +1,35 @@
-// The fused deformation-map kernel: one forward sweep keeping the ELU slopes, then three reverse sweeps
-// for the rows of the Jacobian (see deformation_map_eval.h).
+// The fused deformation-map kernels: one forward sweep keeping the ELU slopes, then three reverse sweeps
+// for the rows of the Jacobian (see deformation_map_eval.h), with the generic or a fixed-shape evaluator.
 #include "kernels/rom/deformation_map_eval.h"
 
 #include <string>
+#include <type_traits>
 
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
-#include "kernels/rom/deformation_map_point.h"
+#include "kernels/rom/map_evaluators.h"
 
 namespace romp::rom {
 namespace {
 
-template <class T>
+template <class T, class Map>
 struct MapPoint {
-  DeformationMapView<T> map;
+  Map map;
   const T* xhat;
   Vec3Planes<const T> X;
   DeformationMapOutputs<T> out;
 
   ROMP_HD void operator()(Index i) const {
     Vec3<T> x;
-    Mat3<T> F;
-    const bool gradient = out.F.data() != nullptr;
-    evaluate_map_point(map, xhat, X.load(i), x, gradient ? &F : nullptr,
-                       out.dg_dxhat.data() ? out.dg_dxhat.data() + i : nullptr, X.count());
+    Mat3<T> F = Mat3<T>::identity();
+    T* const dg = out.dg_dxhat.data();
+    const Index n = X.count();
+    const int r = map.latent();
+    map(xhat, X.load(i), x, F, out.F.data() || dg, [dg, n, r, i](int o, int j, T value) {
+      if (dg) dg[(o * r + j) * n + i] = value;
+    });
     if (out.x.data()) out.x.store(i, x);
-    if (gradient) out.F.store(i, F);
+    if (out.F.data()) out.F.store(i, F);
   }
 };
 
@@ -42,7 +46,7 @@ Index deformation_map_parameter_count(int latent, int hidden_layers, int width) 
 
 template <class T>
 void evaluate_deformation_map(const Exec& exec, const DeformationMapView<T>& map, Span<const T> xhat,
-                              Vec3Planes<const T> X, const DeformationMapOutputs<T>& out) {
+                              Vec3Planes<const T> X, const DeformationMapOutputs<T>& out, MapKernel kernel) {
   ROMP_CHECK(map.latent >= 1 && map.latent <= kMaxMapLatent,
              "the fused map evaluator takes a latent size r in [1, " + std::to_string(kMaxMapLatent) + "], got " +
                  std::to_string(map.latent));
@@ -61,12 +65,14 @@ void evaluate_deformation_map(const Exec& exec, const DeformationMapView<T>& map
   ROMP_CHECK(!out.F.data() || out.F.count() == n, "F must hold one matrix per point");
   ROMP_CHECK(!out.dg_dxhat.data() || out.dg_dxhat.size() == 3 * map.latent * n, "dg_dxhat must hold 3 r planes of n");
   if (n == 0) return;
-  for_each(exec, n, MapPoint<T>{map, xhat.data(), X, out});
+  with_map_evaluator(map, kernel, exec.backend, [&](const auto& evaluator) {
+    for_each(exec, n, MapPoint<T, std::decay_t<decltype(evaluator)>>{evaluator, xhat.data(), X, out});
+  });
 }
 
 template void evaluate_deformation_map<float>(const Exec&, const DeformationMapView<float>&, Span<const float>,
-                                              Vec3Planes<const float>, const DeformationMapOutputs<float>&);
+                                              Vec3Planes<const float>, const DeformationMapOutputs<float>&, MapKernel);
 template void evaluate_deformation_map<double>(const Exec&, const DeformationMapView<double>&, Span<const double>,
-                                               Vec3Planes<const double>, const DeformationMapOutputs<double>&);
+                                               Vec3Planes<const double>, const DeformationMapOutputs<double>&, MapKernel);
 
 }  // namespace romp::rom

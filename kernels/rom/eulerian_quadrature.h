@@ -75,18 +75,22 @@ struct EulerianPointsOut {
   Span<float> mass, volume0;  // ρ₀ V / J and V / J; 0 for dropped points
   Span<std::int32_t> material, status;
   Span<std::int32_t> iterations;  // iterations taken (0 for a guess already converged or not inverted)
+  // Evaluations of g at the point, and those of them that also gave the Jacobians (three reverse sweeps
+  // more each): the inversion's cost, which the tally sums (0 for a point not inverted).
+  Span<std::int32_t> evaluations, jacobian_evaluations;
 };
 
 // For n points at x (current configuration) with first guesses X_guess and F_guess of X and of ∇_X g
 // there (g linearised at a nearby point gives both): inverts g, looks the result up in `occupancy`, and
-// writes the kinematics. Points that do not converge or land outside the body are dropped: mass and volume 0, F = I, v = 0, so they add nothing to a P2G. `density` holds ρ₀ per
-// material; `volume` is each point's share of the current configuration (dx³ / ℓ³). xhat, vhat: r
-// values on exec's backend.
+// writes the kinematics. Points that do not converge or land outside the body are dropped: mass and
+// volume 0, F = I, v = 0, so they add nothing to a P2G. `density` holds ρ₀ per material; `volume` is
+// each point's share of the current configuration (dx³ / ℓ³). xhat, vhat: r values on exec's backend.
+// `kernel` chooses the map's evaluator (deformation_map_eval.h).
 void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map, Span<const float> xhat,
                          Span<const float> vhat, const ReferenceOccupancy& occupancy, Span<const float> density,
                          float volume, const InversionOptions& options, Vec3Planes<const float> x,
                          Vec3Planes<const float> X_guess, Mat3Planes<const float> F_guess,
-                         const EulerianPointsOut& out);
+                         const EulerianPointsOut& out, MapKernel kernel = MapKernel::Fastest);
 
 // Running totals of the Eulerian quadrature, kept on the device so that a substep reads nothing back
 // for them: the points by status (QuadratureStatus) and their inversion iterations since the run
@@ -94,11 +98,12 @@ void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map,
 struct QuadratureTally {
   std::int64_t points[3] = {0, 0, 0};
   std::int64_t iterations = 0;
+  std::int64_t evaluations = 0, jacobian_evaluations = 0;
   double last_mass = 0.0;
 };
 
-// Adds the n points' statuses and iterations to tally[0] and sets its last_mass to their mass.
-void tally_quadrature(const Exec& exec, Span<const std::int32_t> status, Span<const std::int32_t> iterations,
-                      Span<const float> mass, Span<QuadratureTally> tally);
+// Adds the statuses, iterations and evaluations of the n points `out` holds to tally[0] and sets its
+// last_mass to their mass.
+void tally_quadrature(const Exec& exec, const EulerianPointsOut& out, Index n, Span<QuadratureTally> tally);
 
 }  // namespace romp::rom

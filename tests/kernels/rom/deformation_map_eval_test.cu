@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -27,7 +28,7 @@ struct Evaluation {
 
 template <class T>
 Evaluation<T> evaluate(const ReferenceMap& reference, int hidden_layers, int width, const Eigen::VectorXd& xhat,
-                       const std::vector<Eigen::Vector3d>& points) {
+                       const std::vector<Eigen::Vector3d>& points, MapKernel kernel = MapKernel::Fastest) {
   const Exec& exec = test::exec();
   const Index n = Index(points.size());
   const int r = reference.latent;
@@ -42,7 +43,8 @@ Evaluation<T> evaluate(const ReferenceMap& reference, int hidden_layers, int wid
   DeviceBuffer<T> x(exec.backend, 3 * n), F(exec.backend, 9 * n), dg(exec.backend, 3 * r * n);
 
   evaluate_deformation_map<T>(exec, map, Span<const T>(xhat_buffer.data(), r), Vec3Planes<const T>(X.data(), n),
-                              {Vec3Planes<T>(x.data(), n), Mat3Planes<T>(F.data(), n), Span<T>(dg.data(), dg.size())});
+                              {Vec3Planes<T>(x.data(), n), Mat3Planes<T>(F.data(), n), Span<T>(dg.data(), dg.size())},
+                              kernel);
   return {x.to_host(exec.stream), F.to_host(exec.stream), dg.to_host(exec.stream), n};
 }
 
@@ -126,6 +128,45 @@ TEST(DeformationMapEval, FloatAgreesWithTheDoubleReferenceToFloatRounding) {
   EXPECT_LT(error(2), 1e-5);
 }
 
+// The fixed-shape kernels (the papers' 5 × 30 network at r = 4, 6, 7) against the generic one on the
+// same inputs: the same arithmetic in another order, so equal to float rounding, and as close to the
+// reference as the generic float kernel is.
+TEST(DeformationMapEval, FixedShapeKernelsMatchTheGenericOne) {
+  for (const int r : {4, 6, 7}) {
+    const int hidden = 5, width = 30;
+    const ReferenceMap map = random_map(r, hidden, width, 20 + r);
+    const Eigen::VectorXd xhat = Eigen::VectorXd::LinSpaced(r, -0.8, 0.7);
+    const std::vector<Eigen::Vector3d> points = sample_points(96, 4);
+    const Evaluation<float> fixed = evaluate<float>(map, hidden, width, xhat, points, MapKernel::Fixed);
+    const Evaluation<float> generic = evaluate<float>(map, hidden, width, xhat, points, MapKernel::Generic);
+    const auto largest = [](const std::vector<float>& a, const std::vector<float>& b) {
+      float difference = 0.0f, size = 0.0f;
+      for (std::size_t k = 0; k < a.size(); ++k) {
+        difference = std::max(difference, std::abs(a[k] - b[k]));
+        size = std::max(size, std::abs(b[k]));
+      }
+      return difference / size;
+    };
+    EXPECT_LT(largest(fixed.x, generic.x), 1e-6f) << "r = " << r;
+    EXPECT_LT(largest(fixed.F, generic.F), 1e-5f) << "r = " << r;
+    EXPECT_LT(largest(fixed.dg_dxhat, generic.dg_dxhat), 1e-5f) << "r = " << r;
+    const Eigen::Vector3d error = deviations(map, fixed, xhat, points);
+    EXPECT_LT(error(0), 1e-6) << "r = " << r;
+    EXPECT_LT(error(1), 1e-5) << "r = " << r;
+    EXPECT_LT(error(2), 1e-5) << "r = " << r;
+  }
+}
+
+TEST(DeformationMapEval, AFixedShapeKernelForSizesThatHaveNoneIsAnError) {
+  const ReferenceMap map = random_map(5, 5, 30, 3);  // r = 5: no fixed-shape kernel
+  const std::vector<Eigen::Vector3d> points = sample_points(8, 2);
+  const Eigen::VectorXd xhat = Eigen::VectorXd::Zero(5);
+  EXPECT_THROW(evaluate<float>(map, 5, 30, xhat, points, MapKernel::Fixed), Error);
+  EXPECT_NO_THROW(evaluate<float>(map, 5, 30, xhat, points, MapKernel::Fastest));
+  const ReferenceMap paper = random_map(6, 5, 30, 3);
+  EXPECT_THROW(evaluate<double>(paper, 5, 30, Eigen::VectorXd::Zero(6), points, MapKernel::Fixed), Error);
+}
+
 TEST(DeformationMapEval, LinearBaselineHasItsClosedFormJacobian) {
   // H = 0: out = W [x̂, X̄] + b, so ∇_X g = I + diag(u_std) W[:, r:] diag(X_scale), the same at every point.
   const int r = 4;
@@ -160,7 +201,7 @@ TEST(DeformationMapEval, OutputsLeftEmptyAreSkippedAndTheOthersUnchanged) {
     for (int c = 0; c < 3; ++c) X_host[c * n + i] = points[i](c);
   const auto X_points = DeviceBuffer<double>::from_host(exec.backend, X_host, exec.stream);
   DeviceBuffer<double> F(exec.backend, 9 * n);
-  DeformationMapView<double> map{r, hidden, width, Span<const double>(parameters.data(), parameters.size()),
+  DeformationMapView<double> map{r, hidden, width, Span<const double>(parameters.data(), parameters.size()), nullptr,
                                  vec3<double>(reference.X_min), vec3<double>(reference.X_scale),
                                  vec3<double>(reference.u_mean), vec3<double>(reference.u_std)};
   DeformationMapOutputs<double> only_F;

@@ -19,7 +19,7 @@
 namespace romp::rom {
 namespace {
 
-constexpr int kLatent = 6, kHidden = 3, kWidth = 16;
+constexpr int kLatent = 6;
 constexpr float kTolerance = 2e-6f;  // m, on |g(X) − x|
 constexpr float kVolume = 1e-6f;
 
@@ -71,20 +71,24 @@ std::vector<float> planes(const std::vector<Eigen::Vector3d>& points) {
 
 struct Quadrature {
   std::vector<float> X, v, F, mass, volume0, F_map, dg_map;
-  std::vector<std::int32_t> material, status, iterations;
+  std::vector<std::int32_t> material, status, iterations, evaluations, jacobian_evaluations;
+  QuadratureTally tally;
 };
 
 // The random map with displacements scaled up, so that g is far from linear over a few centimetres.
-ReferenceMap strongly_nonlinear_map() {
-  ReferenceMap map = random_map(kLatent, kHidden, kWidth, 11);
+ReferenceMap strongly_nonlinear_map(int hidden, int width) {
+  ReferenceMap map = random_map(kLatent, hidden, width, 11);
   map.u_std *= 2.5;
   return map;
 }
 
-class EulerianQuadrature : public ::testing::Test {
+// A map of `Hidden` layers of `Width` units: the papers' 5 × 30 runs the fixed-shape kernel, other sizes
+// the generic one.
+template <int Hidden, int Width>
+class QuadratureFixture : public ::testing::Test {
  protected:
-  const ReferenceMap reference = strongly_nonlinear_map();
-  const UploadedMap<float> map = upload<float>(test::exec(), reference, kHidden, kWidth);
+  const ReferenceMap reference = strongly_nonlinear_map(Hidden, Width);
+  const UploadedMap<float> map = upload<float>(test::exec(), reference, Hidden, Width);
   const Eigen::VectorXd xhat = Eigen::VectorXd::LinSpaced(kLatent, -0.6, 0.9);
   const Eigen::VectorXd vhat = Eigen::VectorXd::LinSpaced(kLatent, 0.3, -0.2);
   Body body;
@@ -112,7 +116,8 @@ class EulerianQuadrature : public ::testing::Test {
   // Runs the quadrature at the current positions of `truth` (g in double), from `X_guess` and
   // `F_guess` (planes), then evaluates the map at the points it returned.
   Quadrature run(const std::vector<Eigen::Vector3d>& truth, const std::vector<float>& X_guess,
-                 const std::vector<float>& F_guess, int iterations = 20) const {
+                 const std::vector<float>& F_guess, int iterations = 20,
+                 MapKernel kernel = MapKernel::Fastest) const {
     const Exec& exec = test::exec();
     const Index n = Index(truth.size());
     std::vector<Eigen::Vector3d> current;
@@ -124,19 +129,34 @@ class EulerianQuadrature : public ::testing::Test {
     const auto vhat_buffer = DeviceBuffer<float>::from_host(exec.backend, latent(vhat), exec.stream);
     DeviceBuffer<float> X(exec.backend, 3 * n), v(exec.backend, 3 * n), F(exec.backend, 9 * n), mass(exec.backend, n),
         volume0(exec.backend, n);
-    DeviceBuffer<std::int32_t> material(exec.backend, n), status(exec.backend, n), steps(exec.backend, n);
+    DeviceBuffer<std::int32_t> material(exec.backend, n), status(exec.backend, n), steps(exec.backend, n),
+        evaluations(exec.backend, n), jacobian_evaluations(exec.backend, n);
+    DeviceBuffer<QuadratureTally> tally(exec.backend, 1);
+    tally.fill_zero(exec.stream);
     InversionOptions options;
     options.iterations = iterations;
     options.tolerance = kTolerance;
+    const EulerianPointsOut out{Vec3Planes<float>(X.data(), n), Vec3Planes<float>(v.data(), n),
+                                Mat3Planes<float>(F.data(), n), mass.span(), volume0.span(), material.span(),
+                                status.span(), steps.span(), evaluations.span(), jacobian_evaluations.span()};
     eulerian_quadrature(exec, map.view, xhat_buffer.span(), vhat_buffer.span(), body.occupancy, body.density.span(),
                         kVolume, options, Vec3Planes<const float>(x.data(), n),
-                        Vec3Planes<const float>(guess.data(), n), Mat3Planes<const float>(guess_F.data(), n),
-                        {Vec3Planes<float>(X.data(), n), Vec3Planes<float>(v.data(), n), Mat3Planes<float>(F.data(), n),
-                         mass.span(), volume0.span(), material.span(), status.span(), steps.span()});
-    Quadrature q{X.to_host(exec.stream),        v.to_host(exec.stream),        F.to_host(exec.stream),
-                 mass.to_host(exec.stream),     volume0.to_host(exec.stream),  {},
-                 {},                            material.to_host(exec.stream), status.to_host(exec.stream),
-                 steps.to_host(exec.stream)};
+                        Vec3Planes<const float>(guess.data(), n), Mat3Planes<const float>(guess_F.data(), n), out,
+                        kernel);
+    tally_quadrature(exec, out, n, tally.span());
+    Quadrature q{X.to_host(exec.stream),
+                 v.to_host(exec.stream),
+                 F.to_host(exec.stream),
+                 mass.to_host(exec.stream),
+                 volume0.to_host(exec.stream),
+                 {},
+                 {},
+                 material.to_host(exec.stream),
+                 status.to_host(exec.stream),
+                 steps.to_host(exec.stream),
+                 evaluations.to_host(exec.stream),
+                 jacobian_evaluations.to_host(exec.stream),
+                 tally.to_host(exec.stream)[0]};
     std::vector<float> x_map;
     evaluate(q.X, x_map, q.F_map, q.dg_map);
     return q;
@@ -188,6 +208,9 @@ class EulerianQuadrature : public ::testing::Test {
     }
   }
 };
+
+class EulerianQuadrature : public QuadratureFixture<3, 16> {};
+class EulerianQuadraturePaperMap : public QuadratureFixture<5, 30> {};
 
 TEST_F(EulerianQuadrature, FindsTheReferencePositionFromALinearisedGuess) {
   const std::vector<Eigen::Vector3d> truth = points_inside(200, 1);
@@ -246,6 +269,76 @@ TEST_F(EulerianQuadrature, DropsPointsOutsideTheBodyAndThoseItCannotInvert) {
   const Quadrature stopped = run(inside, off, identity, 1);
   EXPECT_EQ(stopped.status[0], kQuadratureUnconverged);
   EXPECT_EQ(stopped.mass[0], 0.0f);
+}
+
+// The fixed-shape kernel on the papers' network: every point found, and the same points, positions and
+// kinematics as the generic kernel (the same iteration; the map's rounding differs).
+TEST_F(EulerianQuadraturePaperMap, FixedShapeKernelFindsWhatTheGenericOneFinds) {
+  const std::vector<Eigen::Vector3d> truth = points_inside(200, 1);
+  std::vector<float> X_guess, F_guess;
+  linearised_guesses(truth, X_guess, F_guess);
+  const Quadrature fixed = run(truth, X_guess, F_guess, 20, MapKernel::Fixed);
+  const Quadrature generic = run(truth, X_guess, F_guess, 20, MapKernel::Generic);
+  expect_found(truth, fixed);
+  EXPECT_EQ(fixed.status, generic.status);
+  EXPECT_EQ(fixed.material, generic.material);
+  for (std::size_t k = 0; k < fixed.X.size(); ++k) {
+    EXPECT_NEAR(fixed.X[k], generic.X[k], 1e-5f) << k;
+    EXPECT_NEAR(fixed.v[k], generic.v[k], 1e-5f) << k;
+  }
+  for (std::size_t k = 0; k < fixed.F.size(); ++k) EXPECT_NEAR(fixed.F[k], generic.F[k], 1e-5f) << k;
+  for (std::size_t i = 0; i < fixed.mass.size(); ++i) EXPECT_NEAR(fixed.mass[i], generic.mass[i], 1e-5f * 1000.0f * kVolume);
+}
+
+// The inversion's cost as the kernel counts it: a point whose guess is its solution takes the evaluation
+// at the guess and the kinematics' (the only one with the Jacobians); a point dropped before inverting
+// takes none; one found outside the body takes no kinematics. The tally sums the points' counts.
+TEST_F(EulerianQuadrature, CountsItsEvaluationsOfTheMapAndTalliesThem) {
+  const std::vector<Eigen::Vector3d> truth = points_inside(60, 4);
+  const std::size_t n = truth.size();
+  std::vector<float> X_guess, F_guess;
+  linearised_guesses(truth, X_guess, F_guess);
+  const Quadrature q = run(truth, X_guess, F_guess);
+  expect_found(truth, q);
+  std::int64_t sums[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < n; ++i) {
+    // Start, at least one trial per iteration, the kinematics.
+    EXPECT_GE(q.evaluations[i], 2 + q.iterations[i]) << "point " << i;
+    EXPECT_GE(q.jacobian_evaluations[i], 1) << "point " << i;
+    EXPECT_LT(q.jacobian_evaluations[i], q.evaluations[i]) << "point " << i;
+    sums[0] += q.iterations[i];
+    sums[1] += q.evaluations[i];
+    sums[2] += q.jacobian_evaluations[i];
+  }
+  EXPECT_EQ(q.tally.points[kQuadratureUsed], std::int64_t(n));
+  EXPECT_EQ(q.tally.points[kQuadratureOutside] + q.tally.points[kQuadratureUnconverged], 0);
+  EXPECT_EQ(q.tally.iterations, sums[0]);
+  EXPECT_EQ(q.tally.evaluations, sums[1]);
+  EXPECT_EQ(q.tally.jacobian_evaluations, sums[2]);
+  double mass = 0.0;
+  for (float m : q.mass) mass += m;
+  EXPECT_NEAR(q.tally.last_mass, mass, 1e-6 * mass);
+
+  // Guesses at the solutions themselves (the inverse the run found): nothing to iterate.
+  const Quadrature exact = run(truth, q.X, F_guess);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (exact.iterations[i] != 0) continue;  // float rounding can leave a residual above the tolerance
+    EXPECT_EQ(exact.evaluations[i], 2) << "point " << i;
+    EXPECT_EQ(exact.jacobian_evaluations[i], 1) << "point " << i;
+  }
+  EXPECT_GT(std::count(exact.iterations.begin(), exact.iterations.end(), 0), std::ptrdiff_t(n / 2));
+
+  // Ten cells beyond the body: dropped at the guess, no evaluation at all; half a cell beyond: inverted,
+  // found outside, no kinematics.
+  const std::vector<Eigen::Vector3d> outside = {{-0.11, 0.4, 0.15}, {0.05, 0.4, -0.15}};
+  std::vector<float> outside_guess = planes(outside), identity(9 * outside.size(), 0.0f);
+  for (int d = 0; d < 3; ++d) std::fill_n(identity.begin() + (4 * d) * outside.size(), outside.size(), 1.0f);
+  const Quadrature dropped = run(outside, outside_guess, identity);
+  EXPECT_GE(dropped.evaluations[0], 1);
+  EXPECT_EQ(dropped.jacobian_evaluations[0], 0);
+  EXPECT_EQ(dropped.evaluations[1], 0);
+  EXPECT_EQ(dropped.tally.points[kQuadratureOutside], 2);
+  EXPECT_EQ(dropped.tally.last_mass, 0.0);
 }
 
 }  // namespace

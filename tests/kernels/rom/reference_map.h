@@ -68,9 +68,11 @@ Vec3<T> vec3(const Eigen::Vector3d& v) {
   return Vec3<T>(T(v(0)), T(v(1)), T(v(2)));
 }
 
-// A reference map's parameters in T on exec's backend, and the evaluator's view of them.
+// A reference map's parameters in T on exec's backend and on the host (as map_view gives them, so
+// that the fixed-shape kernels run for their sizes), and the evaluator's view of them.
 template <class T>
 struct UploadedMap {
+  std::vector<T> host;
   DeviceBuffer<T> parameters;
   DeformationMapView<T> view;
 };
@@ -79,8 +81,9 @@ template <class T>
 UploadedMap<T> upload(const Exec& exec, const ReferenceMap& reference, int hidden_layers, int width) {
   std::vector<T> packed;
   for (double v : reference.packed()) packed.push_back(T(v));
-  UploadedMap<T> uploaded{DeviceBuffer<T>::from_host(exec.backend, packed, exec.stream), {}};
+  UploadedMap<T> uploaded{packed, DeviceBuffer<T>::from_host(exec.backend, packed, exec.stream), {}};
   DeformationMapView<T>& map = uploaded.view;
+  map.host_parameters = uploaded.host.data();
   map.latent = reference.latent;
   map.hidden_layers = hidden_layers;
   map.width = width;
