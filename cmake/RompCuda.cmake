@@ -37,6 +37,14 @@ if(ROMP_WITH_CUDA)
   enable_language(CUDA)
   find_package(CUDAToolkit REQUIRED)
   set(ROMP_CUDA_ARCHITECTURES_RESOLVED "${ROMP_CUDA_ARCHITECTURES}")
+  # Every device compile keeps ptxas's resource report (registers, stack frame, spills per kernel) beside
+  # its object, so that CI, which has nvcc and no GPU, checks the hot kernels against their budgets
+  # (tests/kernels/kernel_resources.toml) at no extra compile. A launcher of the user's own comes first.
+  if(NOT CMAKE_CUDA_COMPILER_LAUNCHER)
+    set(CMAKE_CUDA_COMPILER_LAUNCHER "${CMAKE_CURRENT_LIST_DIR}/keep_resource_report.sh")
+  else()
+    set(CMAKE_CUDA_COMPILER_LAUNCHER "${CMAKE_CURRENT_LIST_DIR}/keep_resource_report.sh;${CMAKE_CUDA_COMPILER_LAUNCHER}")
+  endif()
 else()
   set(ROMP_CUDA_ARCHITECTURES_RESOLVED "none")
 endif()
@@ -55,7 +63,7 @@ endfunction()
 function(romp_use_backend target)
   target_link_libraries(${target} PUBLIC OpenMP::OpenMP_CXX)
   target_compile_options(${target} PRIVATE
-    $<$<COMPILE_LANGUAGE:CUDA>:--extended-lambda --expt-relaxed-constexpr -Xcompiler=-fopenmp>)
+    $<$<COMPILE_LANGUAGE:CUDA>:--extended-lambda --expt-relaxed-constexpr -Xcompiler=-fopenmp --resource-usage>)
   if(ROMP_WITH_CUDA)
     target_compile_definitions(${target} PUBLIC ROMP_WITH_CUDA=1)
     target_link_libraries(${target} PUBLIC CUDA::cudart)
