@@ -14,6 +14,12 @@ namespace romp::scene {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// How deeply a formula may nest (parentheses, calls, unary signs and powers together). Each level is a
+// few frames of the evaluator's recursion; the limit keeps a hostile formula from overflowing the stack,
+// and no formula a person writes comes near it.
+constexpr int kMaxNesting = 256;
+// How much of a long formula an error message quotes.
+constexpr std::size_t kQuotedLength = 80;
 
 class Parser {
  public:
@@ -47,8 +53,11 @@ class Parser {
     }
   }
 
-  // unary := ('-' | '+') unary | power; so -2^2 = -4 as in mathematics.
+  // unary := ('-' | '+') unary | power; so -2^2 = -4 as in mathematics. Every path by which the grammar
+  // recurses passes here (a parenthesis or a call through sum, a sign, a power's exponent), so this is
+  // where the nesting is counted.
   double unary() {
+    const Nesting level(*this);
     if (accept('-')) return -unary();
     if (accept('+')) return unary();
     return power();
@@ -150,12 +159,32 @@ class Parser {
     if (!accept(c)) fail(fmt::format("expected '{}'", c));
   }
   [[noreturn]] void fail(const std::string& why) const {
-    throw Error(fmt::format("formula \"{}\", column {}: {}", text_, at_ + 1, why));
+    const std::string quoted =
+        text_.size() <= kQuotedLength
+            ? fmt::format("\"{}\"", text_)
+            : fmt::format("\"{}...\" ({} characters)", text_.substr(0, kQuotedLength), text_.size());
+    throw Error(fmt::format("formula {}, column {}: {}", quoted, at_ + 1, why));
   }
+
+  // One level of nesting for the scope of a unary(), refused past kMaxNesting.
+  class Nesting {
+   public:
+    explicit Nesting(Parser& parser) : parser_(parser) {
+      if (++parser_.depth_ > kMaxNesting)
+        parser_.fail(fmt::format("nested more than {} levels deep (parentheses, calls, signs and powers)", kMaxNesting));
+    }
+    ~Nesting() { --parser_.depth_; }
+    Nesting(const Nesting&) = delete;
+    Nesting& operator=(const Nesting&) = delete;
+
+   private:
+    Parser& parser_;
+  };
 
   const std::string& text_;
   const ParameterValues& parameters_;
   std::size_t at_ = 0;
+  int depth_ = 0;
 };
 
 }  // namespace

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "tests/support/scratch_folder.h"
 
@@ -37,6 +40,30 @@ TEST(Expression, ErrorsNameTheColumnAndTheProblem) {
   EXPECT_NE(message("2 3").find("column 3: unexpected '3'"), std::string::npos);
   EXPECT_NE(message("sin(1, 2)").find("sin() takes 1 argument, got 2"), std::string::npos);
   EXPECT_NE(message("foo(1)").find("unknown function 'foo'"), std::string::npos);
+}
+
+// A hostile formula nested far past anything a person writes is refused with a located error, not a
+// stack overflow; the error quotes the start of a long formula, not all of it.
+TEST(Expression, DeepNestingIsRefusedBeforeTheStackOverflows) {
+  const ParameterValues p;
+  auto message = [&](const std::string& text) { return test::error_message([&] { evaluate_expression(text, p); }); };
+  const auto nested = [](int depth, const std::string& open, const std::string& close) {
+    std::string text;
+    for (int level = 0; level < depth; ++level) text += open;
+    text += "1";
+    for (int level = 0; level < depth; ++level) text += close;
+    return text;
+  };
+  for (const auto& [open, close] : std::vector<std::pair<std::string, std::string>>{
+           {"(", ")"}, {"-", ""}, {"2^", ""}, {"sin(", ")"}, {"max(1,", ")"}}) {
+    SCOPED_TRACE(open);
+    const std::string hostile = message(nested(30000, open, close));
+    EXPECT_NE(hostile.find("nested more than 256 levels deep"), std::string::npos) << hostile;
+    EXPECT_LT(hostile.size(), 400u) << "the error quotes the whole formula";
+    EXPECT_NE(hostile.find("characters)"), std::string::npos);
+    EXPECT_EQ(message(nested(100, open, close)), "(no error)");
+  }
+  EXPECT_DOUBLE_EQ(evaluate_expression(nested(200, "(", ")"), p), 1.0);
 }
 
 }  // namespace
