@@ -17,8 +17,16 @@ DeviceChoice parse_device_choice(const std::string& text) {
   throw Error("--device '" + text + "': allowed values are auto, cpu, cuda");
 }
 
+int cap_cpu_threads(int requested, int processors) {
+  ROMP_CHECK(requested >= 0, "--threads must be >= 0 (0 = OpenMP default), got " + std::to_string(requested));
+  if (requested <= processors) return requested;
+  // More threads than processors only wait on each other (and thousands exhaust the OpenMP runtime).
+  spdlog::warn("--threads {}: this machine has {} processors; using {}", requested, processors, processors);
+  return processors;
+}
+
 Exec select_exec(DeviceChoice choice, const CudaProbe& probe, int cpu_threads) {
-  ROMP_CHECK(cpu_threads >= 0, "--threads must be >= 0 (0 = OpenMP default), got " + std::to_string(cpu_threads));
+  cpu_threads = cap_cpu_threads(cpu_threads, omp_get_num_procs());
   const bool cuda_ready = !probe.devices.empty();
   if (choice == DeviceChoice::Cuda && !cuda_ready) {
     if (!probe.compiled)

@@ -1,6 +1,7 @@
 // Backend selection: CUDA when a device answers, the CPU otherwise, and a clear error when the
 // user insists on a device that is not there.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <string>
 
@@ -33,9 +34,21 @@ TEST(BackendSelection, AutoPrefersCudaWhenADeviceAnswers) {
 }
 
 TEST(BackendSelection, CpuChoiceOverridesAnAvailableDevice) {
-  const Exec exec = select_exec(DeviceChoice::Cpu, probe_with_one_device(), 3);
+  const Exec exec = select_exec(DeviceChoice::Cpu, probe_with_one_device(), 1);
   EXPECT_EQ(exec.backend, Backend::Cpu);
-  EXPECT_EQ(exec.threads, 3);
+  EXPECT_EQ(exec.threads, 1);
+}
+
+// `--threads 100000` once crashed inside the OpenMP runtime: a request beyond the machine's processors
+// runs on as many as it has.
+TEST(BackendSelection, ThreadsBeyondTheMachinesProcessorsAreCapped) {
+  EXPECT_EQ(cap_cpu_threads(100000, 16), 16);
+  EXPECT_EQ(cap_cpu_threads(17, 16), 16);
+  EXPECT_EQ(cap_cpu_threads(16, 16), 16);
+  EXPECT_EQ(cap_cpu_threads(3, 16), 3);
+  EXPECT_EQ(cap_cpu_threads(0, 16), 0);
+  EXPECT_THROW(cap_cpu_threads(-1, 16), Error);
+  EXPECT_EQ(select_exec(DeviceChoice::Cpu, probe_without_devices(true), 100000).threads, omp_get_num_procs());
 }
 
 TEST(BackendSelection, CudaWithoutADeviceSaysWhy) {
