@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "host/material_library.h"
@@ -131,9 +132,12 @@ void read_scene_table(SceneReader& r, TableReader t, const std::string& file) {
 }
 
 std::int32_t whole_ratio(TableReader& t, const std::string& key, double ratio, const std::string& what) {
+  constexpr double kMost = double(std::numeric_limits<std::int32_t>::max());
   const double rounded = std::round(ratio);
   if (rounded < 1.0 || std::fabs(ratio - rounded) > kWholeTolerance * rounded)
     t.fail(key, fmt::format("{} is {:.9g}; it must be a whole number >= 1", what, ratio));
+  // Checked before the conversion, which past int32's range is undefined (it gave -2147483648 frames).
+  if (rounded > kMost) t.fail(key, fmt::format("{} is {:.9g}; it must be at most {:.0f}", what, ratio, kMost));
   return std::int32_t(rounded);
 }
 

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "kernels/core/error.h"
+#include "tests/support/scratch_folder.h"
 
 namespace romp::scene {
 namespace {
@@ -53,6 +54,18 @@ TEST(SceneParser, FillsDefaultsAndEvaluatesFormulas) {
   EXPECT_EQ(scene.gravity, Vec3<double>(0.0, -9.81, 0.0));
   EXPECT_EQ(scene.output.file, "runs/cube.h5");
   EXPECT_FALSE(scene.sweep.has_value());
+}
+
+// end × frame_rate beyond int32 once wrapped to "-2147483648 frames" and a run of no substep.
+TEST(SceneParser, AFrameCountBeyondRangeIsRefusedNotWrapped) {
+  std::string text = kCube;
+  text.replace(text.find("end = 0.5"), 9, "end = 1e6");
+  text.replace(text.find("frame_rate = 20"), 15, "frame_rate = 1e7");
+  const std::string error = test::error_message([&] { parse_scene(text, "cube.toml"); });
+  EXPECT_NE(error.find("cube.toml"), std::string::npos) << error;
+  EXPECT_NE(error.find("frame_rate"), std::string::npos) << error;
+  EXPECT_NE(error.find("end × frame_rate (the frame count) is 1e+13; it must be at most 2147483647"), std::string::npos)
+      << error;
 }
 
 TEST(SceneParser, TheImplicitIntegratorAllowsALargerCfl) {
