@@ -1,6 +1,7 @@
 // Parameters of the named materials, and scene materials as engine parameters.
 #include "host/material_library.h"
 
+#include "host/scene/toml_reader.h"
 #include "nn/nclaw/law_file.h"
 #include "nn/nclaw/rest_stiffness.h"
 
@@ -82,7 +83,15 @@ MaterialSpec to_material_spec(const scene::MaterialSpecification& m) {
       break;
     case MaterialModel::WeaklyCompressibleFluid: params = Params::weakly_compressible_fluid(lame.lambda); break;
     case MaterialModel::Neural: {
-      const material::Lame<float> at_rest = neural_law_at_rest(m.neural_law);
+      // The parser checked only the file's format (scene_parser.cpp); the law itself is checked here,
+      // with the error located where the scene names it.
+      material::Lame<float> at_rest;
+      try {
+        at_rest = neural_law_at_rest(m.neural_law);
+      } catch (const Error& error) {
+        if (m.neural_law_source.empty()) throw;
+        throw scene::SceneError(fmt::format("{}: {}", m.neural_law_source, error.what()));
+      }
       return {Params::neural(at_rest), float(m.density), m.neural_law};
     }
   }

@@ -54,6 +54,9 @@ struct MaterialSpecification {
   double cohesion = 0.0;           // Drucker–Prager
   double min_stretch = 0.1;        // inversion handling: stress sees principal stretches >= this (0: off); not fluids
   std::string neural_law;          // MaterialModel::Neural: the law file (absolute path), from `neural = "law.h5"`
+  // Where the scene names the law ("file:line:column: materials.NAME.neural"): the parser checks only that
+  // it is a law file, so an error in the law itself, found where the run is set up, is located there.
+  std::string neural_law_source;
   double strength_off_from = 0.0, strength_off_until = 0.0;  // s; no stiffness in between (MaterialSpec)
 };
 

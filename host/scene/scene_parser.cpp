@@ -17,6 +17,7 @@
 #include "host/sim_config.h"
 #include "kernels/core/error.h"
 #include "kernels/math/rotation.h"
+#include "nn/nclaw/law_file_format.h"
 
 namespace romp::scene {
 namespace {
@@ -203,9 +204,12 @@ MaterialSpecification read_material(TableReader t, const std::string& name, cons
     m.model = MaterialModel::Neural;
     m.neural_law = read_input_file(t, "neural", folder, "neural law", {".h5"});
     m.density = t.number("density", m.density, Range::positive());
+    m.neural_law_source = t.located("neural");
     t.finish();
+    // That it is a law file of a version this romp reads; its networks are loaded and checked where the
+    // run is set up (to_material_spec), so that parsing (`romp check`) runs no network.
     try {
-      neural_law_at_rest(m.neural_law);  // a scene error now rather than a failed run later
+      nn::open_versioned_file(m.neural_law, nn::kLawFile);
     } catch (const Error& error) {
       t.fail("neural", error.what());
     }

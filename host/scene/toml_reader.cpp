@@ -57,10 +57,14 @@ std::string TableReader::dotted(const std::string& key) const {
   return path_.empty() ? key : path_ + "." + key;
 }
 
-void TableReader::fail(const std::string& key, const std::string& why) const {
+std::string TableReader::located(const std::string& key) const {
   const toml::node* node = key.empty() ? nullptr : in_.get(key);
   const toml::source_region& source = node ? node->source() : in_.source();
-  throw SceneError(fmt::format("{}: {}: {}", where(source), dotted(key), why));
+  return fmt::format("{}: {}", where(source), dotted(key));
+}
+
+void TableReader::fail(const std::string& key, const std::string& why) const {
+  throw SceneError(fmt::format("{}: {}", located(key), why));
 }
 
 const toml::node* TableReader::find(const std::string& key) {

@@ -90,6 +90,8 @@ class TableReader {
 
   // Throws romp::Error "file:line:column: path.key: why" at `key` (or at the table when absent).
   [[noreturn]] void fail(const std::string& key, const std::string& why) const;
+  // "file:line:column: path.key", the place fail() names: for an error found later, outside the parser.
+  std::string located(const std::string& key) const;
 
   const std::string& path() const { return path_; }
   const ReadContext& context() const { return *context_; }

@@ -9,7 +9,6 @@
 namespace romp::nn {
 namespace {
 
-constexpr FileFormat kLawFile{"neural law", kLawFileFormat, "a romp neural-law file", kLawFileVersion};
 constexpr const char* kActivation = "gelu";
 // Widths a file may declare: the paper's is 64; the bound only rejects absurd (corrupted) values.
 constexpr int64_t kMaxWidth = 4096;

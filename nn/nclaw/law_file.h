@@ -13,12 +13,10 @@
 #include <string>
 #include <vector>
 
+#include "nn/nclaw/law_file_format.h"
 #include "nn/nclaw/neural_laws.h"
 
 namespace romp::nn {
-
-inline constexpr const char* kLawFileFormat = "romp-neural-law";
-inline constexpr int64_t kLawFileVersion = 1;
 
 // How the laws were learned.
 struct LawTrainingRecord {
