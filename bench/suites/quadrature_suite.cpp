@@ -9,9 +9,9 @@
 
 #include "bench/suites/random_map.h"
 #include "bench/suites/suites.h"
+#include "host/engine/reduced_sim.h"
 #include "host/geometry/sampling.h"
-#include "host/material_library.h"
-#include "host/reduced_sim.h"
+#include "host/scene/material_library.h"
 
 namespace romp::bench {
 namespace {

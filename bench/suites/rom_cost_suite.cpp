@@ -14,8 +14,8 @@
 
 #include "bench/suites/random_map.h"
 #include "bench/suites/suites.h"
-#include "host/full_order_sim.h"
-#include "host/reduced_sim.h"
+#include "host/engine/full_order_sim.h"
+#include "host/engine/reduced_sim.h"
 #include "host/scene/scene_parser.h"
 #include "host/scene/scene_setup.h"
 #include "kernels/core/memory.h"

@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "bench/suites/suites.h"
-#include "host/full_order_sim.h"
-#include "host/reduced_sim.h"
-#include "host/rom_model_loader.h"
+#include "host/engine/full_order_sim.h"
+#include "host/engine/reduced_sim.h"
+#include "host/engine/rom_model_loader.h"
 #include "host/run/position_error.h"
 #include "host/scene/scene_parser.h"
 #include "host/scene/scene_setup.h"

@@ -11,7 +11,7 @@
 #include <algorithm>
 
 #include "bench/suites/suites.h"
-#include "host/stability_case.h"
+#include "host/analysis/stability_case.h"
 #include "kernels/core/error.h"
 
 namespace romp::bench {

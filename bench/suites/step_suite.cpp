@@ -7,9 +7,9 @@
 #include <string>
 
 #include "bench/suites/suites.h"
-#include "host/full_order_sim.h"
+#include "host/engine/full_order_sim.h"
 #include "host/geometry/sampling.h"
-#include "host/material_library.h"
+#include "host/scene/material_library.h"
 
 namespace romp::bench {
 namespace {

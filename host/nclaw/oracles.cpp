@@ -3,7 +3,7 @@
 
 #include <fmt/format.h>
 
-#include "host/material_library.h"
+#include "host/scene/material_library.h"
 #include "kernels/core/error.h"
 #include "kernels/material/material.h"
 #include "nn/nclaw/evaluation.h"

@@ -3,7 +3,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "host/rom_model_loader.h"
+#include "host/engine/rom_model_loader.h"
 
 namespace romp::run {
 

@@ -8,7 +8,7 @@
 #include <memory>
 #include <string>
 
-#include "host/reduced_sim.h"
+#include "host/engine/reduced_sim.h"
 #include "host/run/simulation.h"
 #include "host/scene/scene_setup.h"
 

@@ -10,10 +10,10 @@
 #include <memory>
 
 #include "host/build_info.h"
-#include "host/full_order_sim.h"
+#include "host/engine/full_order_sim.h"
 #include "host/io/checkpoint.h"
-#include "host/io/obj_export.h"
 #include "host/io/io_worker.h"
+#include "host/io/obj_export.h"
 #include "host/io/snapshot_writer.h"
 #include "host/run/interrupt.h"
 #include "host/run/progress.h"
@@ -21,8 +21,8 @@
 #include "host/scene/scene_setup.h"
 #include "host/scene/toml_reader.h"
 #include "kernels/core/memory.h"
-#include "nn/snapshot_reader.h"
 #include "nn/snapshot_layout.h"
+#include "nn/snapshot_reader.h"
 
 namespace romp::run {
 namespace {

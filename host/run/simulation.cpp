@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "host/full_order_sim.h"
+#include "host/engine/full_order_sim.h"
 
 namespace romp::run {
 namespace {

@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "host/reduced_sim.h"
-#include "host/sim_config.h"
+#include "host/engine/reduced_sim.h"
+#include "host/engine/sim_config.h"
 #include "kernels/core/exec.h"
 #include "kernels/mpm/particle_set.h"
 #include "nn/snapshot_layout.h"

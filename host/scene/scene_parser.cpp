@@ -11,10 +11,10 @@
 #include <limits>
 #include <sstream>
 
-#include "host/material_library.h"
+#include "host/engine/sim_config.h"
+#include "host/scene/material_library.h"
 #include "host/scene/toml_reader.h"
 #include "host/scene/toml_writer.h"
-#include "host/sim_config.h"
 #include "kernels/core/error.h"
 #include "kernels/math/rotation.h"
 #include "nn/nclaw/law_file_format.h"

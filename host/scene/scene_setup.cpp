@@ -10,7 +10,7 @@
 #include "host/geometry/mesh_io.h"
 #include "host/geometry/sampling.h"
 #include "host/geometry/triangle_mesh.h"
-#include "host/material_library.h"
+#include "host/scene/material_library.h"
 #include "host/scene/toml_reader.h"
 
 namespace romp::scene {
@@ -116,8 +116,13 @@ geometry::Shape make_shape(const ShapeSpec& s) {
 }
 
 SceneSetup build_scene(const Scene& scene) {
-  SceneSetup setup;
+  SceneSetup setup = sample_scene(scene);
   setup.config = engine_config(scene);
+  return setup;
+}
+
+SceneSetup sample_scene(const Scene& scene) {
+  SceneSetup setup;
   std::vector<geometry::Shape> regions;
   for (const DirichletGroupSpec& group : scene.dirichlet) regions.push_back(make_shape(group.region));
 

@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "host/engine/full_order_sim.h"
 #include "host/geometry/embedded_mesh.h"
-#include "host/full_order_sim.h"
 #include "host/geometry/shape.h"
 #include "host/scene/scene.h"
 #include "kernels/mpm/particle_set.h"
@@ -28,5 +28,9 @@ geometry::Shape make_shape(const ShapeSpec& shape);
 // colliders and loads. A body that reaches into the boundary margin or out of the domain is a
 // SceneError naming the object.
 SceneSetup build_scene(const Scene& scene);
+
+// build_scene without the engine configuration (`config` left at its defaults): the particles alone,
+// which is what `romp check` reports, loading no learned law and evaluating no network.
+SceneSetup sample_scene(const Scene& scene);
 
 }  // namespace romp::scene

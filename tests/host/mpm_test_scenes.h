@@ -4,9 +4,9 @@
 #include <cmath>
 #include <vector>
 
+#include "host/engine/full_order_sim.h"
 #include "host/geometry/lattice_domains.h"
 #include "host/geometry/sampling.h"
-#include "host/full_order_sim.h"
 #include "kernels/material/material.h"
 #include "kernels/math/mat3.h"
 #include "kernels/math/vec3.h"

@@ -7,7 +7,7 @@
 
 #include <tuple>
 
-#include "host/stability_case.h"
+#include "host/analysis/stability_case.h"
 #include "tests/support/test_exec.h"
 
 namespace romp {

@@ -9,7 +9,7 @@
 #include <fstream>
 #include <string>
 
-#include "host/full_order_sim.h"
+#include "host/engine/full_order_sim.h"
 #include "host/io/snapshot_writer.h"
 #include "host/scene/scene_parser.h"
 #include "host/scene/toml_reader.h"

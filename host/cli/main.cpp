@@ -1,0 +1,73 @@
+// The romp command line: one entry point for every mode, one file per command beside this one. Exit
+// codes (README "Exit codes", exit_codes.h): 0 done, 1 run failed, 2 bad arguments, 3 invalid scene or
+// input file, 4 simulation went non-finite, 5 sweep members failed, 130 interrupted (resumable with
+// --resume).
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include <exception>
+
+#include "host/backend_selection.h"
+#include "host/cli/check_command.h"
+#include "host/cli/compare_command.h"
+#include "host/cli/exit_codes.h"
+#include "host/cli/global_options.h"
+#include "host/cli/info_command.h"
+#include "host/cli/learn_law_command.h"
+#include "host/cli/run_command.h"
+#include "host/cli/sweep_command.h"
+#include "host/cli/train_rom_command.h"
+#include "host/scene/toml_reader.h"
+#include "kernels/core/error.h"
+
+int main(int argc, char** argv) {
+  using namespace romp::cli;
+  CLI::App app{"romp: material point method with neural reduced-order models"};
+  app.require_subcommand(1);
+  GlobalOptions global;
+  add_global_options(app, global);
+
+  const CLI::App* info = add_info_command(app);
+  CheckOptions check_options;
+  const CLI::App* check = add_check_command(app, check_options);
+  RunCommandOptions run_options;
+  const CLI::App* run = add_run_command(app, run_options, ROMP_DEFAULT_SCENE);
+  SweepCommandOptions sweep_options;
+  const CLI::App* sweep = add_sweep_command(app, sweep_options);
+  CompareOptions compare_options;
+  const CLI::App* compare = add_compare_command(app, compare_options);
+  LearnLawOptions learn_law_options;
+  const CLI::App* learn_law = add_learn_law_command(app, learn_law_options);
+  TrainRomOptions train_rom_options;
+  const CLI::App* train_rom = add_train_rom_command(app, train_rom_options);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error) == 0 ? kExitDone : kExitBadArguments;
+  }
+  spdlog::set_level(spdlog::level::from_str(global.log_level));
+
+  try {
+    const romp::DeviceChoice choice = romp::parse_device_choice(global.device);
+    if (info->parsed()) return info_command();
+    if (check->parsed()) return check_command(check_options);
+    if (run->parsed()) return run_command(choice, global.threads, run_options);
+    if (sweep->parsed()) return sweep_command(global, sweep_options);
+    if (compare->parsed()) return compare_command(compare_options);
+    if (learn_law->parsed()) return learn_law_command(choice, global.threads, learn_law_options);
+    if (train_rom->parsed()) return train_rom_command(choice, global.threads, train_rom_options);
+    throw romp::Error("no command was run");  // require_subcommand(1) makes this unreachable
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error) == 0 ? kExitDone : kExitBadArguments;
+  } catch (const romp::scene::SceneError& error) {
+    spdlog::error("{}", error.what());
+    return kExitInvalidInput;
+  } catch (const romp::NonFiniteError& error) {
+    spdlog::error("{}", error.what());
+    return kExitNonFinite;
+  } catch (const std::exception& error) {
+    spdlog::error("{}", error.what());
+    return kExitRunFailed;
+  }
+}

@@ -1,0 +1,170 @@
+// FullOrderSim: composes the substep from the stages the scene needs, times them, and stops on
+// the first non-finite value with the step, stage and particle.
+#include "host/engine/full_order_sim.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "host/engine/neural_materials.h"
+#include "host/engine/stage_clock.h"
+#include "kernels/core/memory.h"
+
+namespace romp {
+
+FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::ParticleInit& init)
+    : exec_(exec),
+      config_(std::move(config)),
+      particles_(exec.backend, init),
+      // Domain corners always blend PIC and FLIP (the enriched-MPM paper's transfer), so their grid
+      // keeps the velocity before forces whatever the other particles use.
+      grid_(exec.backend, config_.dx, config_.transfer == mpm::Transfer::PicFlip || !init.domains.empty()),
+      inputs_(exec, config_),
+      speed_slot_(exec.backend, 1) {
+  check_particle_tables(config_, init.material, init.dirichlet_group);
+  check_particle_domains(config_, init);
+  if (!init.domains.empty()) domains_.emplace(exec.backend, init.domains);
+  released_.assign(config_.dirichlet.size(), false);
+  if (config_.integrator == Integrator::Implicit) implicit_.emplace(exec.backend, config_.implicit);
+  auto neural = std::make_unique<NeuralMaterials>(exec, config_.materials, particles_.count());
+  // The implicit operator needs ∂P/∂F of every material, which a learned law does not provide here.
+  ROMP_CHECK(neural->empty() || !implicit_,
+             "solver.integrator = \"implicit\" needs analytic materials; neural laws run with the explicit integrator");
+  if (!neural->empty()) neural_ = std::move(neural);
+  // Pipeline order, as substep() runs them.
+  stage_seconds_ = {{"sort", 0.0}, {"grid_build", 0.0}};
+  if (neural_) stage_seconds_.emplace_back("neural_stress", 0.0);
+  stage_seconds_.emplace_back("p2g", 0.0);
+  if (enriching()) stage_seconds_.emplace_back("enrich", 0.0);
+  if (domains_) stage_seconds_.insert(stage_seconds_.end(), {{"p2c", 0.0}, {"c2g", 0.0}});
+  stage_seconds_.emplace_back("grid_update", 0.0);
+  if (implicit_) stage_seconds_.emplace_back("implicit_solve", 0.0);
+  stage_seconds_.emplace_back("g2p", 0.0);
+  if (domains_) stage_seconds_.insert(stage_seconds_.end(), {{"g2c", 0.0}, {"c2p", 0.0}});
+  if (inputs_.plastic()) stage_seconds_.emplace_back("plasticity", 0.0);
+  if (neural_) stage_seconds_.emplace_back("neural_plasticity", 0.0);
+}
+
+FullOrderSim::FullOrderSim(FullOrderSim&&) = default;
+FullOrderSim& FullOrderSim::operator=(FullOrderSim&&) = default;
+FullOrderSim::~FullOrderSim() = default;
+
+float FullOrderSim::stable_dt() {
+  if (config_.fixed_dt > 0.0f) return config_.fixed_dt;
+  const float particle_speed = mpm::max_particle_speed(exec_, particles_.view(), speed_slot_.span());
+  // Deformed domains are stiffer than at rest (domain_stiffening); the last substep's state stands
+  // in for this one's.
+  const float wave_speed = inputs_.max_wave_speed() * (domains_ ? std::sqrt(domains_->stiffening(exec_)) : 1.0f);
+  const float speed = wave_speed + particle_speed;
+  // Enriched corners are nodes of elements as small as a domain, not a grid cell.
+  const float length = enriching() ? std::min(config_.dx, domains_->smallest_edge()) : config_.dx;
+  const float dt = std::min(config_.max_dt, config_.cfl * length / speed);
+  // The implicit step lifts the elastic wave limit, not the transport one: particles still cross at
+  // most one cell per step, so that each step's stencils see the motion (cfl ≤ 1 implies it).
+  return implicit_ ? std::min(dt, length / particle_speed) : dt;
+}
+
+void FullOrderSim::substep(float dt) {
+  ROMP_CHECK(dt > 0.0f && std::isfinite(dt), fmt::format("substep dt must be finite and > 0, got {}", dt));
+  release_ended_dirichlet_groups();
+  if (domains_)
+    for (const DomainReleaseSpec& release : config_.domain_releases)
+      if (time_ >= release.start && time_ < release.end) mpm::release_domains(exec_, particles_.view(), release.region);
+  mpm::StepParams step = inputs_.at(time_, dt);
+
+  StageClock timed(exec_, stage_seconds_);
+  const float inverse_dx = 1.0f / config_.dx;
+  timed([&] { particles_.sort_by_block(exec_, inverse_dx); });
+  const mpm::ParticleView particles = particles_.view();
+  const mpm::DomainView domains = domains_ ? domains_->view() : mpm::DomainView{};
+  timed([&] { grid_.rebuild(exec_, Vec3Planes<const float>(particles.x), Vec3Planes<const float>(domains.x)); });
+  const mpm::GridView grid = grid_.view();
+  if (neural_) timed([&] { step.host_stress = neural_->evaluate_stress(exec_, particles); });
+  timed([&] {
+    if (config_.p2g == P2GKernel::Tiled)
+      mpm::particle_to_grid_tiled(exec_, particles, grid, step, particles_.block_starts());
+    else
+      mpm::particle_to_grid(exec_, particles, grid, step);
+  });
+  if (enriching()) timed([&] { mpm::mark_enrichment(exec_, particles, domains, step, config_.enrichment_threshold); });
+  if (domains_) {
+    timed([&] { mpm::particles_to_corners(exec_, particles, domains, step); });
+    timed([&] { mpm::corners_to_grid(exec_, domains, grid, step); });
+  }
+  timed([&] { mpm::update_grid(exec_, grid, step); });
+  if (implicit_) timed([&] { implicit_->solve(exec_, particles, domains, grid, step, steps_ + 1); });
+  timed([&] { mpm::grid_to_particle(exec_, particles, grid, step); });
+  if (domains_) {
+    timed([&] { mpm::grid_to_corners(exec_, domains, grid, step); });
+    timed([&] { mpm::corners_to_particles(exec_, particles, domains, step); });
+  }
+  if (inputs_.plastic()) timed([&] { mpm::project_plasticity(exec_, particles, step); });
+  if (neural_) timed([&] { neural_->project_plasticity(exec_, particles, step); });
+  if (tracers_) timed([&] { tracers_->advect(exec_, grid, step); });
+
+  time_ += dt;
+  ++steps_;
+  if (enriching()) {
+    // One host read per substep, only in scenes that enrich.
+    last_enriched_share_ = domains_->enriched_share(exec_);
+    ++enrichment_.substeps;
+    enrichment_.share_sum += last_enriched_share_;
+    if (last_enriched_share_ > enrichment_.largest_share) {
+      enrichment_.largest_share = last_enriched_share_;
+      enrichment_.largest_share_step = steps_;
+    }
+  }
+  inputs_.check_stages("", steps_, time_, [this](mpm::Stage, std::int64_t slot) {
+    // Report the particle by its initial index, which is what outputs and scenes refer to.
+    const std::int32_t id = download(exec_.backend, particles_.view().id.subspan(slot, 1), exec_.stream)[0];
+    return std::pair<std::int64_t, std::string>(id, fmt::format("particle {}", id));
+  });
+}
+
+void FullOrderSim::set_tracers(const std::vector<float>& X) {
+  // Tracers embed in the domains as they are at the start, the reference configuration.
+  mpm::DomainInit layout;
+  if (domains_) {
+    ROMP_CHECK(steps_ == 0, "tracers start with the run: they are embedded in the domains' reference configuration");
+    layout.corner = domains_->corner_indices_on_host(exec_);
+    layout.corner_x = domains_->corner_positions_on_host(exec_);
+    layout.corner_dirichlet_group.assign(std::size_t(domains_->corner_count()), mpm::kNoDirichletGroup);
+  }
+  tracers_.emplace(exec_, X, layout);
+  // Last in the substep: the grid's velocities stay as the update left them until the next rebuild.
+  if (stage_seconds_.back().first != "tracers") stage_seconds_.emplace_back("tracers", 0.0);
+}
+
+std::vector<float> FullOrderSim::tracer_positions_on_host() const {
+  ROMP_CHECK(tracers_.has_value(), "tracer positions asked for before set_tracers");
+  return tracers_->positions(exec_, domains_ ? &*domains_ : nullptr);
+}
+
+std::vector<float> FullOrderSim::tracer_velocities_on_host() const {
+  ROMP_CHECK(tracers_.has_value(), "tracer velocities asked for before set_tracers");
+  return tracers_->velocities(exec_, domains_ ? &*domains_ : nullptr);
+}
+
+void FullOrderSim::release_ended_dirichlet_groups() {
+  for (std::size_t g = 0; g < config_.dirichlet.size(); ++g) {
+    if (released_[g] || time_ < config_.dirichlet[g].end) continue;
+    particles_.release_dirichlet_group(exec_, std::int32_t(g));
+    if (domains_) domains_->release_dirichlet_group(exec_, std::int32_t(g));
+    released_[g] = true;
+  }
+}
+
+void FullOrderSim::advance_to(double t) {
+  advance_clock(time_, t, [this] { return double(stable_dt()); }, [this](float dt) { substep(dt); });
+}
+
+void FullOrderSim::restore_clock(double time, std::int64_t steps) {
+  ROMP_CHECK(time >= 0.0 && steps >= 0, fmt::format("restored clock must be >= 0, got t = {}, step {}", time, steps));
+  time_ = time;
+  steps_ = steps;
+}
+
+std::vector<std::pair<std::string, double>> FullOrderSim::stage_seconds() const { return stage_seconds_; }
+
+}  // namespace romp

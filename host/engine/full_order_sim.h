@@ -1,0 +1,101 @@
+// FullOrderSim: MLS-MPM on the sparse grid, substepped under the CFL condition; explicit, or with
+// the implicit velocity solve between grid update and G2P.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "host/engine/implicit_grid_solver.h"
+#include "host/engine/sim_config.h"
+#include "host/engine/step_inputs.h"
+#include "host/engine/tracer_set.h"
+#include "kernels/core/device_buffer.h"
+#include "kernels/core/error.h"
+#include "kernels/core/exec.h"
+#include "kernels/mpm/particle_domains.h"
+#include "kernels/mpm/particle_set.h"
+#include "kernels/mpm/sparse_grid.h"
+#include "kernels/mpm/step.h"
+
+namespace romp {
+
+class NeuralMaterials;  // host/neural_materials.h: LibTorch stays out of this header
+
+// How much dynamic enrichment a run used: the share of domain particles that enriched their corners,
+// summed over substeps, and its largest value.
+struct EnrichmentStatistics {
+  std::int64_t substeps = 0;
+  double share_sum = 0.0;
+  double largest_share = 0.0;
+  std::int64_t largest_share_step = 0;
+};
+
+class FullOrderSim {
+ public:
+  // `init.domains`, when not empty, gives the particles it names hexahedral domains (particle_domains.h).
+  FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::ParticleInit& init);
+  FullOrderSim(FullOrderSim&&);
+  FullOrderSim& operator=(FullOrderSim&&);
+  ~FullOrderSim();
+
+  // The Δt the CFL condition allows now (or the fixed Δt).
+  float stable_dt();
+  // One substep of length dt.
+  void substep(float dt);
+  // Substeps until time() reaches t (the last substep is shortened to land on t).
+  void advance_to(double t);
+  // Sets the clock of a run resumed from a checkpoint whose particle state was passed to the constructor.
+  void restore_clock(double time, std::int64_t steps);
+
+  double time() const { return time_; }
+  std::int64_t steps() const { return steps_; }
+  const Exec& exec() const { return exec_; }
+  const FullOrderConfig& config() const { return config_; }
+  mpm::ParticleSet& particles() { return particles_; }
+  const mpm::SparseGrid& grid() const { return grid_; }
+  // The particle domains of the scene's objects that asked for them (objects.domains), if any.
+  const std::optional<mpm::ParticleDomains>& domains() const { return domains_; }
+  // The share of domain particles whose corners were enriched in the last substep (0 without enrichment).
+  double enriched_share() const { return last_enriched_share_; }
+  const EnrichmentStatistics& enrichment_statistics() const { return enrichment_; }
+  // The implicit solver's counts; nullptr for the explicit integrator.
+  const ImplicitSolveTotals* implicit_totals() const { return implicit_ ? &implicit_->totals() : nullptr; }
+
+  // Tracers (host/tracer_set.h): passive points starting at `X` (3 planes), carried from now on by the
+  // domains that hold them or else by the grid's velocity; they do not act on the simulation. Their
+  // positions and velocities in the order of `X`.
+  void set_tracers(const std::vector<float>& X);
+  std::vector<float> tracer_positions_on_host() const;
+  std::vector<float> tracer_velocities_on_host() const;
+
+  // Seconds spent in each stage so far, in pipeline order (only the stages this scene runs).
+  std::vector<std::pair<std::string, double>> stage_seconds() const;
+
+ private:
+  // Frees the particles (and corners) of every group whose `end` has come: at the first substep that
+  // starts at or after it (also the first substep of a run resumed later).
+  void release_ended_dirichlet_groups();
+  bool enriching() const { return domains_ && config_.enrichment_threshold > 0.0f; }
+
+  Exec exec_;
+  FullOrderConfig config_;
+  mpm::ParticleSet particles_;
+  std::optional<mpm::ParticleDomains> domains_;
+  mpm::SparseGrid grid_;
+  StepInputs inputs_;
+  DeviceBuffer<float> speed_slot_;  // mpm::max_particle_speed's result
+  std::optional<ImplicitGridSolver> implicit_;  // with Integrator::Implicit only
+  std::unique_ptr<NeuralMaterials> neural_;     // when some material is a learned law
+  std::optional<TracerSet> tracers_;
+  double time_ = 0.0;
+  std::int64_t steps_ = 0;
+  std::vector<std::pair<std::string, double>> stage_seconds_;
+  std::vector<bool> released_;  // per Dirichlet group
+  double last_enriched_share_ = 0.0;
+  EnrichmentStatistics enrichment_;
+};
+
+}  // namespace romp

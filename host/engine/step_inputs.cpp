@@ -1,0 +1,169 @@
+// StepInputs: validation of a scene's solver configuration and the per-substep upload of its
+// time-dependent boundary conditions and loads.
+#include "host/engine/step_inputs.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "kernels/core/fill.h"
+#include "kernels/math/rotation.h"
+
+namespace romp {
+
+StepInputs::StepInputs(const Exec& exec, const FullOrderConfig& config) : exec_(exec), config_(config) {
+  ROMP_CHECK(config.dx > 0.0f, "grid spacing dx must be > 0");
+  for (int a = 0; a < 3; ++a)
+    ROMP_CHECK(config.domain_cells[a] > 2 * (config.wall_cells + 1),
+               fmt::format("domain_cells[{}] = {} leaves no interior between walls of {} cells", a,
+                           config.domain_cells[a], config.wall_cells));
+  ROMP_CHECK(!config.materials.empty(), "a simulation needs at least one material");
+  const bool implicit = config.integrator == Integrator::Implicit;
+  const float most_cfl = implicit ? kImplicitMaxCfl : 1.0f;
+  ROMP_CHECK(config.cfl > 0.0f && config.cfl <= most_cfl,
+             fmt::format("cfl must be in (0, {}] with the {} integrator", most_cfl,
+                         implicit ? "implicit" : "explicit"));
+  ROMP_CHECK(config.flip_alpha >= 0.0f && config.flip_alpha <= 1.0f, "flip_alpha must be in [0, 1]");
+
+  for (const MaterialSpec& m : config.materials) {
+    ROMP_CHECK(m.density > 0.0f, "material density must be > 0");
+    const bool window = m.strength_off_until > m.strength_off_from;
+    ROMP_CHECK(!window || m.params.model == material::MaterialModel::FixedCorotated ||
+                   m.params.model == material::MaterialModel::NeoHookean ||
+                   m.params.model == material::MaterialModel::HenckyStVK,
+               "strength_off is for the hyperelastic models (fixed corotated, Neo-Hookean, Hencky)");
+    plastic_ = plastic_ || material::is_plastic(m.params.model);
+    // At full strength: the CFL step stays safe when the strength returns.
+    max_wave_speed_ = std::max(max_wave_speed_, std::sqrt((m.params.lambda + 2.0f * m.params.mu) / m.density));
+  }
+  upload_materials(0.0);
+  // Sized once for every collider, motion and load the scene has, so a substep uploads into them
+  // without allocating (an allocation synchronises a CUDA device).
+  colliders_ = DeviceBuffer<mpm::ColliderState>(exec.backend, Index(config.colliders.size()));
+  dirichlet_ = DeviceBuffer<mpm::RigidMotion>(exec.backend, Index(config.dirichlet.size()));
+  loads_ = DeviceBuffer<mpm::RegionLoad>(exec.backend, Index(config.loads.size()));
+  first_failure_ = DeviceBuffer<std::int64_t>(exec.backend, mpm::kStageCount);
+}
+
+void StepInputs::upload_materials(double time) {
+  std::vector<bool> off;
+  for (const MaterialSpec& m : config_.materials) off.push_back(m.strength_off_at(time));
+  if (!materials_.empty() && off == strength_off_) return;
+  std::vector<material::MaterialParams<float>> table;
+  for (std::size_t i = 0; i < config_.materials.size(); ++i) {
+    material::MaterialParams<float> params = config_.materials[i].params;
+    if (off[i]) params.mu = params.lambda = 0.0f;
+    table.push_back(params);
+  }
+  materials_ = DeviceBuffer<material::MaterialParams<float>>::from_host(exec_.backend, table, exec_.stream);
+  strength_off_ = std::move(off);
+}
+
+mpm::StepParams StepInputs::at(double time, float dt) {
+  const FullOrderConfig& config = config_;
+  upload_materials(time);
+  std::vector<mpm::ColliderState> colliders;
+  for (const ColliderSpec& spec : config.colliders) {
+    if (time >= spec.end) continue;
+    mpm::ColliderState c = spec.initial;
+    c.center = c.center + float(time) * c.linear_velocity;
+    c.rotation = rotation_from_vector(float(time) * c.angular_velocity) * c.rotation;
+    colliders.push_back(c);
+  }
+  std::vector<mpm::RigidMotion> motions;
+  for (const DirichletSpec& spec : config.dirichlet) {
+    motions.push_back(mpm::RigidMotion{spec.pivot + float(time) * spec.linear_velocity, spec.linear_velocity,
+                                       spec.angular_velocity, rotation_from_vector(dt * spec.angular_velocity)});
+  }
+  std::vector<mpm::RegionLoad> loads;
+  for (const RegionLoadSpec& spec : config.loads)
+    if (time >= spec.start && time < spec.end) loads.push_back(spec.load);
+  fill(exec_, first_failure_.span(), mpm::kNoFailure);
+
+  mpm::StepParams step;
+  step.dt = dt;
+  step.gravity = config.gravity;
+  step.transfer = config.transfer;
+  step.flip_alpha = config.flip_alpha;
+  for (int a = 0; a < 3; ++a) step.domain_cells[a] = config.domain_cells[a];
+  step.wall_cells = config.wall_cells;
+  step.wall_contact = config.wall_contact;
+  step.wall_friction = config.wall_friction;
+  step.materials = materials_.span();
+  // The active ones fill the front of buffers sized for all of them: no allocation.
+  step.colliders = colliders_.upload_front(exec_.backend, colliders, exec_.stream);
+  step.dirichlet = dirichlet_.upload_front(exec_.backend, motions, exec_.stream);
+  step.loads = loads_.upload_front(exec_.backend, loads, exec_.stream);
+  step.first_failure = first_failure_.span();
+  return step;
+}
+
+const char* stage_name(mpm::Stage stage) {
+  switch (stage) {
+    case mpm::Stage::P2G: return "p2g";
+    case mpm::Stage::GridUpdate: return "grid_update";
+    case mpm::Stage::G2P: return "g2p";
+    case mpm::Stage::Plasticity: return "plasticity";
+  }
+  return "unknown";
+}
+
+void StepInputs::check_stages(const std::string& who, std::int64_t step, double time,
+                              const FailureDescriber& describe) const {
+  const std::vector<std::int64_t> failures = first_failure_.to_host(exec_.stream);
+  for (int s = 0; s < mpm::kStageCount; ++s) {
+    if (failures[s] == mpm::kNoFailure) continue;
+    const auto stage = mpm::Stage(s);
+    const auto [index, what] = stage == mpm::Stage::GridUpdate
+                                   ? std::pair<std::int64_t, std::string>(failures[s],
+                                                                          fmt::format("grid node {}", failures[s]))
+                                   : describe(stage, failures[s]);
+    throw NonFiniteError(fmt::format("{}non-finite value at step {} (t = {:.6g} s), stage {}: {}", who, step, time,
+                                     stage_name(stage), what),
+                         step, stage, index);
+  }
+}
+
+void advance_clock(double& time, double t, const std::function<double()>& stable_dt,
+                   const std::function<void(float)>& substep) {
+  // Substeps shorter than this fraction of the stable Δt are merged into the previous one.
+  constexpr double kMergeFraction = 1e-3;
+  while (time < t) {
+    const double dt = stable_dt();
+    const double remaining = t - time;
+    if (remaining >= dt * (1.0 + kMergeFraction)) {
+      substep(float(dt));
+      continue;
+    }
+    // The last substep lands on t: the clock takes t itself, not the sum with the float Δt, whose
+    // rounding would leave a sliver of time for one more, needless substep.
+    substep(float(remaining));
+    time = t;
+  }
+}
+
+void check_dirichlet_groups(const FullOrderConfig& config, const std::vector<std::int32_t>& groups,
+                            const std::string& what) {
+  for (const std::int32_t group : groups)
+    ROMP_CHECK(group == mpm::kNoDirichletGroup || (group >= 0 && group < std::int32_t(config.dirichlet.size())),
+               fmt::format("{} Dirichlet group {} outside [0, {})", what, group, config.dirichlet.size()));
+}
+
+void check_particle_tables(const FullOrderConfig& config, const std::vector<std::int32_t>& material,
+                           const std::vector<std::int32_t>& dirichlet_group) {
+  for (const std::int32_t id : material)
+    ROMP_CHECK(id >= 0 && id < std::int32_t(config.materials.size()),
+               fmt::format("particle material id {} outside [0, {})", id, config.materials.size()));
+  check_dirichlet_groups(config, dirichlet_group, "particle");
+}
+
+void check_particle_domains(const FullOrderConfig& config, const mpm::ParticleInit& init) {
+  const Index domains = init.domains.count();
+  for (const std::int32_t d : init.domain)
+    ROMP_CHECK(d == mpm::kNoDomain || (d >= 0 && d < domains),
+               fmt::format("particle domain {} outside [0, {})", d, domains));
+  check_dirichlet_groups(config, init.domains.corner_dirichlet_group, "domain corner");
+}
+
+}  // namespace romp

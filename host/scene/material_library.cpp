@@ -1,0 +1,104 @@
+// Parameters of the named materials, and scene materials as engine parameters.
+#include "host/scene/material_library.h"
+
+#include "host/scene/toml_reader.h"
+#include "nn/nclaw/law_file.h"
+#include "nn/nclaw/rest_stiffness.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace romp {
+
+std::optional<NclawMaterial> nclaw_material_named(const std::string& name) {
+  if (name == "jelly") return NclawMaterial::Jelly;
+  if (name == "sand") return NclawMaterial::Sand;
+  if (name == "plasticine") return NclawMaterial::Plasticine;
+  if (name == "water") return NclawMaterial::Water;
+  return std::nullopt;
+}
+
+scene::MaterialSpecification nclaw_preset(NclawMaterial which) {
+  using material::MaterialModel;
+  scene::MaterialSpecification m;
+  m.density = 1e3;
+  switch (which) {
+    case NclawMaterial::Jelly:  // fixed corotated, E = 1e5, ν = 0.2, no plasticity
+      m.name = "jelly";
+      m.model = MaterialModel::FixedCorotated;
+      m.youngs_modulus = 1e5;
+      m.poissons_ratio = 0.2;
+      break;
+    case NclawMaterial::Sand:  // Hencky, E = 1e6, ν = 0.2, Drucker–Prager φ = 25°, no cohesion
+      m.name = "sand";
+      m.model = MaterialModel::DruckerPrager;
+      m.youngs_modulus = 1e6;
+      m.poissons_ratio = 0.2;
+      m.friction_angle = 25.0;
+      m.cohesion = 0.0;
+      break;
+    case NclawMaterial::Plasticine:  // Hencky, E = 3e5, ν = 0.25, von Mises τ_y = 5e3 Pa
+      m.name = "plasticine";
+      m.model = MaterialModel::VonMises;
+      m.youngs_modulus = 3e5;
+      m.poissons_ratio = 0.25;
+      m.yield_stress = 5e3;
+      break;
+    case NclawMaterial::Water:  // τ = λ J (J − 1) I with λ of E = 1e5, ν = 0.3
+      m.name = "water";
+      m.model = MaterialModel::WeaklyCompressibleFluid;
+      m.youngs_modulus = 1e5;
+      m.poissons_ratio = 0.3;
+      break;
+  }
+  return m;
+}
+
+material::Lame<float> neural_law_at_rest(const std::string& law_file) {
+  nn::NeuralLaws laws = nn::read_law_file(law_file).laws;
+  laws.to(torch::kCPU, torch::kFloat64);
+  const nn::RestStiffness at_rest = nn::rest_stiffness([&](const torch::Tensor& F) { return laws.elastic->forward(F); });
+  // The CFL condition needs a positive wave speed; a law that is unstable at rest cannot be run.
+  ROMP_CHECK(std::isfinite(at_rest.p_wave_modulus()) && at_rest.p_wave_modulus() > 0.0,
+             fmt::format("{}: the elastic law's P-wave modulus at rest (lambda + 2 mu) is {} Pa; a usable law "
+                         "resists compression (> 0)",
+                         law_file, at_rest.p_wave_modulus()));
+  return {float(at_rest.mu), float(at_rest.lambda)};
+}
+
+MaterialSpec to_material_spec(const scene::MaterialSpecification& m) {
+  using material::MaterialModel;
+  using Params = material::MaterialParams<float>;
+  const material::Lame<float> lame =
+      material::lame_from_young_poisson(float(m.youngs_modulus), float(m.poissons_ratio));
+  Params params{};
+  switch (m.model) {
+    case MaterialModel::FixedCorotated: params = Params::fixed_corotated(lame); break;
+    case MaterialModel::NeoHookean: params = Params::neo_hookean(lame); break;
+    case MaterialModel::HenckyStVK: params = Params::hencky_stvk(lame); break;
+    case MaterialModel::VonMises: params = Params::von_mises(lame, float(m.yield_stress)); break;
+    case MaterialModel::DruckerPrager:
+      params = Params::drucker_prager(lame, float(m.friction_angle), float(m.cohesion));
+      break;
+    case MaterialModel::WeaklyCompressibleFluid: params = Params::weakly_compressible_fluid(lame.lambda); break;
+    case MaterialModel::Neural: {
+      // The parser checked only the file's format (scene_parser.cpp); the law itself is checked here,
+      // with the error located where the scene names it.
+      material::Lame<float> at_rest;
+      try {
+        at_rest = neural_law_at_rest(m.neural_law);
+      } catch (const Error& error) {
+        if (m.neural_law_source.empty()) throw;
+        throw scene::SceneError(fmt::format("{}: {}", m.neural_law_source, error.what()));
+      }
+      return {Params::neural(at_rest), float(m.density), m.neural_law};
+    }
+  }
+  if (m.model != MaterialModel::WeaklyCompressibleFluid) params = params.with_min_stretch(float(m.min_stretch));
+  return {params, float(m.density), "", m.strength_off_from, m.strength_off_until};
+}
+
+MaterialSpec nclaw_material(NclawMaterial which) { return to_material_spec(nclaw_preset(which)); }
+
+}  // namespace romp

@@ -1,0 +1,435 @@
+// ReducedSim against the full-order MPM on a motion its map represents exactly: an elastic cube that
+// falls and drifts without deforming, under the translation family g(X; x̂) = X + x̂ (r = 3). The
+// full-order run stays a translation to rounding (uniform velocity, C = 0, F = I), so the ROM must
+// reproduce it with either projection, with every point or a few samples.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "host/engine/reduced_sim.h"
+#include "host/scene/material_library.h"
+#include "kernels/core/memory.h"
+#include "kernels/mpm/bspline.h"
+#include "tests/host/mpm_test_scenes.h"
+#include "tests/host/rom_test_maps.h"
+#include "tests/support/test_exec.h"
+
+namespace romp {
+namespace {
+
+constexpr float kDx = 1.0f / 32.0f;
+constexpr float kDt = 1e-3f;
+constexpr int kSteps = 40;
+const Vec3<float> kInitialVelocity(0.5f, 0.0f, -0.25f);
+
+FullOrderConfig falling_config() {
+  FullOrderConfig config = test::open_space_config(kDx, 32, nclaw_material(NclawMaterial::Jelly));
+  config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
+  return config;
+}
+
+mpm::ParticleInit cube() {
+  mpm::ParticleInit init = test::lattice_box(Vec3<float>::constant(0.375f), Vec3<float>::constant(0.625f), kDx, 2,
+                                             1000.0f);
+  for (Index p = 0; p < init.count(); ++p) test::set_plane_vector(init.v, init.count(), p, kInitialVelocity);
+  return init;
+}
+
+// The reference trajectory, run once per test binary.
+const std::vector<float>& full_order_positions() {
+  static const std::vector<float> positions = [] {
+    FullOrderSim sim(test::exec(), falling_config(), cube());
+    for (int s = 0; s < kSteps; ++s) sim.substep(kDt);
+    return sim.particles().positions_in_initial_order(sim.exec());
+  }();
+  return positions;
+}
+
+std::vector<float> reduced_positions(const ReducedOptions& options) {
+  ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, options);
+  for (int s = 0; s < kSteps; ++s) sim.substep(kDt);
+  EXPECT_EQ(sim.unconverged_projections(), 0);
+  return sim.decode_positions();
+}
+
+float largest_difference(const std::vector<float>& a, const std::vector<float>& b) {
+  EXPECT_EQ(a.size(), b.size());
+  float largest = 0.0f;
+  for (std::size_t i = 0; i < a.size(); ++i) largest = std::max(largest, std::fabs(a[i] - b[i]));
+  return largest;
+}
+
+// Float rounding of 40 position updates near 0.5 m (ulp 6e-8) and of the grid's momentum / mass.
+constexpr float kTrajectoryTolerance = 2e-6f;
+
+TEST(ReducedSim, VelocityProjectionReproducesTheFullOrderTranslation) {
+  const std::vector<float>& full = full_order_positions();
+  const std::vector<float> reduced = reduced_positions({});
+  // The cube drifted 2 cm along x (and fell 8 mm); the trajectories agree to rounding.
+  EXPECT_NEAR(full[0] - cube().x[0], kInitialVelocity[0] * kSteps * kDt, 1e-4f);
+  EXPECT_LT(largest_difference(full, reduced), kTrajectoryTolerance);
+}
+
+TEST(ReducedSim, PositionVelocityProjectionReproducesTheFullOrderTranslation) {
+  ReducedOptions options;
+  options.projection = RomProjection::PositionVelocity;
+  EXPECT_LT(largest_difference(full_order_positions(), reduced_positions(options)), kTrajectoryTolerance);
+}
+
+// Domains are the full-order engine's: a reference whose particles have them runs the same reduced
+// trajectory as one without.
+TEST(ReducedSim, ParticleDomainsOfTheReferenceAreIgnored) {
+  mpm::ParticleInit with_domains = geometry::sample_box_with_domains(
+      Vec3<float>::constant(0.375f), Vec3<float>::constant(0.625f),
+      geometry::SamplingSpec{geometry::SamplingMethod::Lattice, 2, kDx}, 1000.0f);
+  for (Index p = 0; p < with_domains.count(); ++p)
+    test::set_plane_vector(with_domains.v, with_domains.count(), p, kInitialVelocity);
+  ReducedSim sim(test::exec(), falling_config(), with_domains, test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+  for (int s = 0; s < kSteps; ++s) sim.substep(kDt);
+  // Equal up to the order in which threads' float atomics sum (seen under a loaded ctest: 3e-8 m).
+  EXPECT_LE(largest_difference(sim.decode_positions(), reduced_positions({})), 1e-6f);
+}
+
+TEST(ReducedSim, TenSamplesFollowTheSameTrajectoryAsEveryPoint) {
+  ReducedOptions hyper;
+  hyper.samples = 10;
+  hyper.seed = 3;
+  EXPECT_LT(largest_difference(reduced_positions({}), reduced_positions(hyper)), kTrajectoryTolerance);
+}
+
+// x̂ after ten substeps of deformed_body (stress everywhere), and the last substep's quadrature points.
+struct NeighbourRun {
+  std::vector<float> xhat;
+  Index quadrature_points = 0;
+  std::int64_t newton_steps = 0;
+};
+// 3 samples (seeded) in a 32,768-point body under a map that deforms it.
+ReducedSim deformed_body(RomQuadrature quadrature, NeighbourSearch search) {
+  const mpm::ParticleInit body = test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2,
+                                                   1000.0f);
+  ReducedOptions options;
+  options.quadrature = quadrature;
+  options.samples = 3;
+  options.seed = 5;
+  options.neighbour_search = search;
+  return ReducedSim(test::exec(), falling_config(), body, test::small_nonlinear_map(0.25f, 0.5f, 0.003f),
+                    {0.0f, 0.0f, 0.0f}, options);
+}
+NeighbourRun run_deformed_body(RomQuadrature quadrature, NeighbourSearch search) {
+  ReducedSim sim = deformed_body(quadrature, search);
+  EXPECT_EQ(sim.searches_neighbours(), quadrature == RomQuadrature::Lagrangian && search == NeighbourSearch::Always);
+  for (int s = 0; s < 10; ++s) sim.substep(kDt);
+  return {sim.xhat(), sim.last_quadrature_count(), sim.inversion_iterations()};
+}
+
+// The same x̂ from the samples' neighbours as from every point. The sums at the samples' nodes may take
+// other orders (threads' atomics): rounding only; leaving out the Lagrangian neighbours two nodes away
+// changes x̂ by 3-200 %.
+void expect_same_xhat(const std::vector<float>& neighbours, const std::vector<float>& every) {
+  float change = 0.0f;
+  for (int j = 0; j < 3; ++j) change = std::max(change, std::fabs(every[j]));
+  EXPECT_GT(change, 3e-4f);  // x̂ moved (the body fell 0.5 mm): the comparison is not of two resting states
+  // Rounding is relative to x̂'s size, not to each coordinate's (one of them stays near 0).
+  for (int j = 0; j < 3; ++j) EXPECT_NEAR(neighbours[j], every[j], 1e-5f * change) << j;
+}
+
+// Alg. 3's neighbour search gives the samples the P2G of every material point, from a fraction of them.
+TEST(ReducedSim, NeighbourQuadratureFollowsEveryPointQuadrature) {
+  const NeighbourRun every = run_deformed_body(RomQuadrature::Lagrangian, NeighbourSearch::Never);
+  const NeighbourRun neighbours = run_deformed_body(RomQuadrature::Lagrangian, NeighbourSearch::Always);
+  EXPECT_EQ(every.quadrature_points, 32768);
+  EXPECT_GT(neighbours.quadrature_points, 0);
+  EXPECT_LT(neighbours.quadrature_points, 32768 / 4);  // 3 samples reach a few hundred of the points
+  expect_same_xhat(neighbours.xhat, every.xhat);
+}
+
+// Of the Eulerian points of the cells near the samples, those whose stencils miss every sample's nodes
+// change nothing the samples read: inverting only the others (about 60 % at ℓ = 2) keeps x̂.
+TEST(ReducedSim, EulerianQuadratureInvertsOnlyTheSamplesNeighbours) {
+  const NeighbourRun every = run_deformed_body(RomQuadrature::Eulerian, NeighbourSearch::Never);
+  const NeighbourRun neighbours = run_deformed_body(RomQuadrature::Eulerian, NeighbourSearch::Auto);
+  // ℓ = 2: per axis 10 of the 12 points of a sample's 6 cells reach its nodes, (10/12)³ = 58 %.
+  EXPECT_LE(every.quadrature_points, 3 * 6 * 6 * 6 * 8);
+  EXPECT_LT(neighbours.quadrature_points, every.quadrature_points * 2 / 3);
+  EXPECT_GT(neighbours.quadrature_points, every.quadrature_points / 2);
+  EXPECT_GT(neighbours.newton_steps, 0);
+  EXPECT_LT(neighbours.newton_steps, every.newton_steps);  // the dropped points were inverted too
+  expect_same_xhat(neighbours.xhat, every.xhat);
+}
+
+// What a substep costs the host once its buffers have grown (memory::traffic counts it on either
+// backend). On a GPU every allocation synchronises the device and every transfer is a blocking round
+// trip: at the real-time step of the paper's tower (0.255 ms) a few dozen of either would use it all
+// (bench/results/gpu-notes.md).
+struct SubstepTraffic {
+  int allocating_substeps = 0;
+  std::int64_t largest_uploads = 0, largest_downloads = 0;
+};
+SubstepTraffic substep_traffic(RomQuadrature quadrature, NeighbourSearch search) {
+  ReducedSim sim = deformed_body(quadrature, search);
+  for (int s = 0; s < 3; ++s) sim.substep(kDt);
+  SubstepTraffic traffic;
+  for (int s = 0; s < 12; ++s) {
+    const memory::Traffic before = memory::traffic();
+    sim.substep(kDt);
+    const memory::Traffic after = memory::traffic();
+    traffic.allocating_substeps += after.allocations > before.allocations;
+    traffic.largest_uploads = std::max(traffic.largest_uploads, after.uploads - before.uploads);
+    traffic.largest_downloads = std::max(traffic.largest_downloads, after.downloads - before.downloads);
+  }
+  return traffic;
+}
+
+TEST(ReducedSim, SubstepsReuseTheirBuffersAndMakeFewRoundTrips) {
+  // Each compaction (IndexSelector) reads its count back, on the CPU as on CUDA.
+  constexpr std::int64_t per_compaction = 1;
+
+  const SubstepTraffic every = substep_traffic(RomQuadrature::Lagrangian, NeighbourSearch::Never);
+  EXPECT_EQ(every.allocating_substeps, 0);
+  // Up: the sample indices (x̂ and v̂ stay on the device). Down: the grid's block count, the failure
+  // slots, the new x̂ and v̂ (the projection is solved on the device), the largest speed, the results of
+  // the two domain checks (samples, quadrature).
+  EXPECT_EQ(every.largest_uploads, 1);
+  EXPECT_EQ(every.largest_downloads, 6);
+
+  // The neighbours' and the Eulerian points' counts vary with the samples: their buffers grow with
+  // headroom now and then (not in these 12 substeps), where they were allocated every substep.
+  const SubstepTraffic neighbours = substep_traffic(RomQuadrature::Lagrangian, NeighbourSearch::Always);
+  EXPECT_LE(neighbours.allocating_substeps, 2);
+  // The nodes near the samples are found, and the neighbours compacted, on the device: one count more.
+  EXPECT_EQ(neighbours.largest_uploads, 1);
+  EXPECT_EQ(neighbours.largest_downloads, 6 + per_compaction);
+
+  const SubstepTraffic eulerian = substep_traffic(RomQuadrature::Eulerian, NeighbourSearch::Auto);
+  EXPECT_LE(eulerian.allocating_substeps, 2);
+  // As every point's, less the quadrature's domain check; and three counts (the cells around the
+  // samples, the points kept in them, the points used): built, compacted and tallied on the device.
+  EXPECT_EQ(eulerian.largest_uploads, 1);
+  EXPECT_EQ(eulerian.largest_downloads, 5 + 3 * per_compaction);
+}
+
+// Auto searches only where the samples reach under half the body: never with every point sampled, nor
+// on a body a few stencils across.
+TEST(ReducedSim, AutoSearchesNeighboursOnlyWhereTheyAreFewerThanThePoints) {
+  mpm::ParticleInit large = test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2,
+                                              1000.0f);
+  auto searches = [&](const mpm::ParticleInit& body, Index samples) {
+    ReducedOptions options;
+    options.samples = samples;
+    return ReducedSim(test::exec(), falling_config(), body, test::translation_map(), {0.0f, 0.0f, 0.0f}, options)
+        .searches_neighbours();
+  };
+  EXPECT_TRUE(searches(large, 3));     // 3 × 125 cells × 8 points = 3,000 < 32,768 / 2
+  EXPECT_FALSE(searches(large, 100));  // 100,000 points' reach: the body
+  EXPECT_FALSE(searches(large, 0));    // every point is a sample
+  EXPECT_FALSE(searches(cube(), 3));   // 3,000 of 4,096
+}
+
+TEST(ReducedSim, EulerianQuadratureReproducesTheFullOrderTranslation) {
+  ReducedOptions eulerian;
+  eulerian.quadrature = RomQuadrature::Eulerian;
+  EXPECT_LT(largest_difference(full_order_positions(), reduced_positions(eulerian)), kTrajectoryTolerance);
+  eulerian.samples = 10;
+  eulerian.projection = RomProjection::PositionVelocity;
+  EXPECT_LT(largest_difference(full_order_positions(), reduced_positions(eulerian)), kTrajectoryTolerance);
+}
+
+TEST(ReducedSim, EulerianQuadratureWeighsTheBodyAndDropsPointsOutsideIt) {
+  // At x̂ = 0 the map is the identity, and ℓ = 2 points per cell of a lattice body sampled at 2 per
+  // cell sit exactly on its material points: the quadrature mass is the body's mass.
+  const mpm::ParticleInit body = cube();
+  ReducedOptions eulerian;
+  eulerian.quadrature = RomQuadrature::Eulerian;
+  ReducedSim sim(test::exec(), falling_config(), body, test::translation_map(), {0.0f, 0.0f, 0.0f}, eulerian);
+  sim.substep(kDt);
+  double mass = 0.0;
+  for (const float m : body.mass) mass += m;
+  EXPECT_NEAR(sim.last_quadrature_mass(), mass, 1e-5 * mass);
+  EXPECT_EQ(sim.quadrature_points_used(), body.count());
+  EXPECT_GT(sim.quadrature_points_outside(), 0);  // the cells around the body reach its boundary nodes
+  EXPECT_EQ(sim.quadrature_points_unconverged(), 0);
+}
+
+// A sample at the body's surface reads nodes no Eulerian quadrature point reaches: here, per axis, the
+// body spans cells 8 to 10.74 at 8 points per cell, so its outermost points (at 10.68) read node 12, in
+// the grid block of nodes 12-15, while the quadrature points inside the body (at 8.25 ... 10.25; the
+// one at 10.75 lies outside) reach nodes 7-11 only. Those nodes must exist and carry velocity 0: from
+// rest, with no stress, each sample moves at g Δt times its weight on nodes 7-11.
+TEST(ReducedSim, EulerianSamplesReadNodesNoQuadraturePointReaches) {
+  const mpm::ParticleInit body = test::lattice_box(Vec3<float>::constant(8.0f * kDx),
+                                                   Vec3<float>::constant(10.75f * kDx), kDx, 8, 1000.0f);
+  const float shift = -0.01f * kDx;  // x̂: off the lattice, so no quadrature point is on the body's faces
+  ReducedOptions eulerian;
+  eulerian.quadrature = RomQuadrature::Eulerian;
+  FullOrderConfig config = falling_config();
+  // No stress at all: at F = I the elastic stress is 0 only to rounding, which moved v̂ by 5e-7 m/s.
+  config.materials[0].strength_off_until = 1.0;
+  ReducedSim sim(test::exec(), config, body, test::translation_map(), {shift, shift, shift}, eulerian);
+  sim.substep(kDt);
+  const Index n = body.count();
+  double weight_on_mass = 0.0;
+  Index beyond = 0;  // samples whose stencils reach node 12
+  for (Index p = 0; p < n; ++p) {
+    const Vec3<float> x = test::plane_vector(body.x, n, p) + Vec3<float>::constant(shift);
+    const mpm::QuadraticStencil<float> stencil(x, 1.0f / kDx);
+    double product = 1.0;
+    for (int a = 0; a < 3; ++a) {
+      double sum = 0.0;
+      for (int k = 0; k < 3; ++k) sum += stencil.base[a] + k <= 11 ? stencil.w[a][k] : 0.0;
+      product *= sum;
+      beyond += stencil.base[a] + 2 == 12 && stencil.w[a][2] > 0.01f;
+    }
+    weight_on_mass += product / double(n);
+  }
+  ASSERT_GT(beyond, 0);
+  ASSERT_LT(weight_on_mass, 1.0 - 1e-3);  // the missing weight is measurable
+  // Every point is a sample and g(X; x̂) = X + x̂: v̂ is the samples' mean velocity.
+  EXPECT_EQ(sim.vhat()[0], 0.0f);
+  EXPECT_NEAR(sim.vhat()[1], config.gravity[1] * kDt * weight_on_mass, 1e-6 * std::fabs(config.gravity[1] * kDt));
+  EXPECT_EQ(sim.vhat()[2], 0.0f);
+}
+
+TEST(ReducedSim, DecodesAFinerSamplingOfTheBody) {
+  // Super-resolution: the state at points the simulation never had, here a lattice twice as fine.
+  ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+  for (int s = 0; s < 5; ++s) sim.substep(kDt);
+  const mpm::ParticleInit fine = test::lattice_box(Vec3<float>::constant(0.375f), Vec3<float>::constant(0.625f), kDx,
+                                                   4, 1000.0f);
+  const ReducedSim::DecodedState state = sim.decode(fine.x);
+  const Index n = fine.count();
+  ASSERT_EQ(Index(state.x.size()), 3 * n);
+  for (Index p = 0; p < n; p += 97)
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_FLOAT_EQ(state.x[a * n + p], fine.x[a * n + p] + sim.xhat()[a]);
+      EXPECT_FLOAT_EQ(state.v[a * n + p], sim.vhat()[a]);
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(state.F[(3 * a + c) * n + p], a == c ? 1.0f : 0.0f);
+    }
+}
+
+TEST(ReducedSim, InitialGeneralizedVelocityFitsTheInitialVelocities) {
+  const ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+  for (int j = 0; j < 3; ++j) EXPECT_NEAR(sim.vhat()[j], kInitialVelocity[j], 1e-6f);
+}
+
+TEST(ReducedSim, NonFiniteGeneralizedCoordinatesStopWithAClearError) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  try {
+    ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, nan, 0.0f}, {});
+    FAIL() << "a non-finite x̂ must be an error";
+  } catch (const NonFiniteError& error) {
+    EXPECT_NE(std::string(error.what()).find("x̂"), std::string::npos) << error.what();
+  }
+}
+
+// A reduced state that decodes outside the grid (x̂ diverged) stops the run, naming the step and the
+// first material point out, for samples and Lagrangian quadrature points alike.
+TEST(ReducedSim, StateDecodedOutsideTheDomainStopsNamingThePoint) {
+  for (const Index samples : {Index(0), Index(10)}) {
+    // x̂ = (0.6, 0, 0) moves the cube's far face (x = 0.625) to 1.225 m, past the 1 m domain.
+    ReducedOptions options;
+    options.samples = samples;
+    ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.6f, 0.0f, 0.0f}, options);
+    try {
+      sim.substep(kDt);
+      FAIL() << "a state outside the domain must be an error";
+    } catch (const NonFiniteError& error) {
+      const std::string message = error.what();
+      EXPECT_EQ(error.step(), 0);
+      EXPECT_GE(error.index(), 0);
+      EXPECT_NE(message.find("material point " + std::to_string(error.index())), std::string::npos) << message;
+      EXPECT_NE(message.find("outside the domain"), std::string::npos) << message;
+    }
+  }
+}
+
+// A stress that is not finite stops P2G naming a material point for the Lagrangian quadrature, and for
+// the Eulerian one, whose points are none, the point's place.
+TEST(ReducedSim, NonFiniteStressNamesTheQuadraturePoint) {
+  FullOrderConfig config = falling_config();
+  config.materials[0].params.mu = std::numeric_limits<float>::quiet_NaN();
+  for (const RomQuadrature quadrature : {RomQuadrature::Lagrangian, RomQuadrature::Eulerian}) {
+    ReducedOptions options;
+    options.quadrature = quadrature;
+    ReducedSim sim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, options);
+    try {
+      sim.substep(kDt);
+      FAIL() << "a non-finite stress must stop the run";
+    } catch (const NonFiniteError& error) {
+      const std::string message = error.what();
+      EXPECT_EQ(error.stage(), mpm::Stage::P2G);
+      if (quadrature == RomQuadrature::Lagrangian) {
+        EXPECT_EQ(error.index(), 0);
+        EXPECT_NE(message.find("material point 0 (a quadrature point)"), std::string::npos) << message;
+      } else {
+        EXPECT_EQ(error.index(), -1);
+        EXPECT_NE(message.find("the Eulerian quadrature point at x = (0.3"), std::string::npos) << message;
+      }
+    }
+  }
+}
+
+// ReducedOptions::cfl replaces the scene's CFL number in the reduced substep (romp run --rom-cfl), within
+// (0, 1].
+TEST(ReducedSim, CflOptionScalesTheStableStep) {
+  auto stable_dt = [](double cfl) {
+    ReducedOptions options;
+    options.cfl = cfl;
+    return ReducedSim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, options)
+        .stable_dt();
+  };
+  EXPECT_EQ(stable_dt(0.0), stable_dt(falling_config().cfl));  // 0: the scene's
+  // Under max_dt (1 ms) the step is proportional to the CFL number.
+  EXPECT_LT(stable_dt(0.2), 1e-3f);
+  EXPECT_NEAR(stable_dt(0.1), 0.5f * stable_dt(0.2), 1e-6f * stable_dt(0.2));
+  EXPECT_THROW(stable_dt(1.5), Error);
+  EXPECT_THROW(stable_dt(-0.1), Error);
+}
+
+// A PIC scene (pic-flip with flip_alpha = 0, the paper's full-order model) runs the same reduced step
+// as an APIC one, which the full-order PIC run of the translating cube matches too; FLIP is refused.
+TEST(ReducedSim, PicScenesRunTheSameStepAndFlipIsRefused) {
+  FullOrderConfig pic = falling_config();
+  pic.transfer = mpm::Transfer::PicFlip;
+  pic.flip_alpha = 0.0f;
+  ReducedSim sim(test::exec(), pic, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+  FullOrderSim full(test::exec(), pic, cube());
+  for (int s = 0; s < kSteps; ++s) {
+    sim.substep(kDt);
+    full.substep(kDt);
+  }
+  EXPECT_LE(largest_difference(sim.decode_positions(), reduced_positions({})), 1e-6f);
+  EXPECT_LT(largest_difference(full.particles().positions_in_initial_order(full.exec()), sim.decode_positions()),
+            kTrajectoryTolerance);
+  pic.flip_alpha = 0.5f;
+  try {
+    ReducedSim(test::exec(), pic, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+    FAIL() << "a reduced simulation accepted FLIP";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("solver.flip_alpha = 0.5"), std::string::npos) << error.what();
+  }
+}
+
+TEST(ReducedSim, PlasticMaterialsAreRejected) {
+  FullOrderConfig config = falling_config();
+  config.materials = {nclaw_material(NclawMaterial::Sand)};
+  EXPECT_THROW(ReducedSim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {}), Error);
+}
+
+TEST(ReducedSim, TheImplicitIntegratorIsRefusedByName) {
+  FullOrderConfig config = falling_config();
+  config.integrator = Integrator::Implicit;
+  try {
+    ReducedSim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+    FAIL() << "a reduced simulation accepted the implicit integrator";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("solver.integrator"), std::string::npos) << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace romp
