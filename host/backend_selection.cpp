@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "kernels/core/error.h"
+#include "kernels/core/openmp_waits.h"
 
 namespace romp {
 
@@ -46,7 +47,7 @@ std::string describe_selection(const Exec& exec, const CudaProbe& probe) {
     }
   }
   const int threads = exec.threads > 0 ? exec.threads : omp_get_max_threads();
-  std::string line = "backend: cpu (" + std::to_string(threads) + " OpenMP threads)";
+  std::string line = "backend: cpu (" + std::to_string(threads) + " OpenMP threads; waits: " + openmp_wait_policy() + ")";
   if (probe.devices.empty()) line += "; CUDA: " + probe.status;
   return line;
 }

@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include "kernels/core/openmp_waits.h"
+
 namespace romp::cli {
 namespace {
 
@@ -33,6 +35,7 @@ std::string info_report(const BuildInfo& build, const CudaProbe& cuda, const nn:
                                yes_no(torch.compiled_with_cuda), yes_no(torch.cuda_available)));
   line("HDF5", build.hdf5_version);
   line("OpenMP threads", std::to_string(omp_get_max_threads()));
+  line("OpenMP waits", openmp_wait_policy());
   if (cuda.devices.empty()) {
     line("CUDA devices", "none (" + cuda.status + ")");
   }

@@ -78,7 +78,7 @@ TEST(BackendSelection, DescriptionNamesTheDeviceOrTheReason) {
   EXPECT_EQ(describe_selection(Exec::cuda(0), with), "backend: cuda (device 0: Test GPU, sm_90)");
   const CudaProbe without = probe_without_devices(true);
   const std::string cpu = describe_selection(Exec::cpu(2), without);
-  EXPECT_NE(cpu.find("backend: cpu (2 OpenMP threads)"), std::string::npos);
+  EXPECT_NE(cpu.find("backend: cpu (2 OpenMP threads; waits: "), std::string::npos);
   EXPECT_NE(cpu.find("no CUDA-capable device"), std::string::npos);
 }
 
