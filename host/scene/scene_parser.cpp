@@ -158,13 +158,16 @@ void read_time(SceneReader& r, TableReader t) {
   s.end_time = t.required_number("end", Range::positive());
   s.frame_rate = t.number("frame_rate", 30.0, Range::open_closed(0.0, 1e7));
   s.frame_count = whole_ratio(t, "frame_rate", s.end_time * s.frame_rate, "end × frame_rate (the frame count)");
+  // The engine steps in float: a step below float's smallest normal number would round to 0 there, which
+  // means "no fixed step" (dt) or no step at all (max_dt).
+  const Range step_range = Range::closed(double(std::numeric_limits<float>::min()), 1.0);
   if (t.has("dt")) {
-    s.fixed_dt = t.number("dt", 0.0, Range::open_closed(0.0, 1.0));
+    s.fixed_dt = t.number("dt", 0.0, step_range);
   } else {
     // The implicit step is stable beyond the explicit limit ([solver] is read first).
     const double most_cfl = s.integrator == "implicit" ? double(kImplicitMaxCfl) : 1.0;
     s.cfl = t.number("cfl", 0.5, Range::open_closed(0.0, most_cfl));
-    s.max_dt = t.number("max_dt", 1e-3, Range::open_closed(0.0, 1.0));
+    s.max_dt = t.number("max_dt", 1e-3, step_range);
   }
   t.finish();
 }

@@ -68,6 +68,21 @@ TEST(SceneParser, AFrameCountBeyondRangeIsRefusedNotWrapped) {
       << error;
 }
 
+// dt = 1e-300 was accepted and then ran with the CFL step (it is 0 in float); max_dt = 1e-200 passed
+// `romp check` and failed in `romp run`.
+TEST(SceneParser, StepsThatVanishInFloatAreRefused) {
+  for (const std::string& step : {std::string("dt = 1e-300"), std::string("max_dt = 1e-200")}) {
+    std::string text = kCube;
+    text.replace(text.find("frame_rate = 20"), 15, "frame_rate = 20\n" + step);
+    const std::string error = test::error_message([&] { parse_scene(text, "cube.toml"); });
+    EXPECT_NE(error.find("cube.toml:"), std::string::npos) << error;
+    EXPECT_NE(error.find("time." + step.substr(0, step.find(' '))), std::string::npos) << error;
+  }
+  std::string text = kCube;
+  text.replace(text.find("frame_rate = 20"), 15, "frame_rate = 20\ndt = 1e-6");
+  EXPECT_EQ(parse_scene(text, "cube.toml").fixed_dt, 1e-6);
+}
+
 TEST(SceneParser, TheImplicitIntegratorAllowsALargerCfl) {
   EXPECT_EQ(parse_scene(kCube, "cube.toml").integrator, "explicit");
   std::string text = kCube;
