@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "host/scene/scene_parser.h"
 #include "kernels/core/error.h"
 #include "nn/snapshot_reader.h"
@@ -45,6 +47,30 @@ torch::Tensor from_vector(const std::vector<float>& values) {
   return torch::tensor(c10::ArrayRef<float>(values), torch::kFloat32);
 }
 
+// Every value of `frame` finite and every position inside the domain's interior, [dx, cells dx − dx] per
+// axis, where the differentiable step's stencil stays on its dense grid: a position outside (or NaN)
+// would index nodes the grid does not have.
+void check_frame(const io::FrameData& frame, int64_t k, const nn::DiffMpmConfig& config, const std::string& label) {
+  const std::size_t n = frame.x.size() / 3;
+  for (const io::FieldMask field : {io::kFieldV, io::kFieldF, io::kFieldC}) {
+    const std::vector<float>& values = frame.field(field);
+    for (std::size_t e = 0; e < values.size(); ++e)
+      if (!std::isfinite(values[e]))
+        throw Error(fmt::format("{}: frame {}, {} of particle {}: {} is not finite", label, k,
+                                io::field_names(field).front(), e % n, values[e]));
+  }
+  for (int a = 0; a < 3; ++a) {
+    const double low = config.dx, high = double(config.cells[std::size_t(a)] - 1) * config.dx;
+    for (std::size_t p = 0; p < n; ++p) {
+      const float x = frame.x[std::size_t(a) * n + p];
+      if (!(x >= low && x <= high))
+        throw Error(fmt::format("{}: frame {}, particle {}: x[{}] = {} is outside the domain's interior [{:.6g}, {:.6g}] m "
+                                "(or not finite)",
+                                label, k, p, a, x, low, high));
+    }
+  }
+}
+
 }  // namespace
 
 GroundTruth read_ground_truth(const std::string& path, int64_t last_frame) {
@@ -70,6 +96,7 @@ GroundTruth read_ground_truth(const std::string& path, int64_t last_frame) {
       throw Error(fmt::format("{}: frame {} is after substep {}; training needs one frame per substep (frame_rate = 1/dt)",
                               label, k, reader.frame_step(k)));
     data.push_back(reader.read_frame(k));
+    check_frame(data.back(), k, truth.config, label);
   }
   nn::Trajectory& t = truth.trajectory;
   t.mass = from_vector(reader.header().mass);

@@ -4,15 +4,25 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
 #include "host/run/scene_runner.h"
 #include "host/scene/scene_parser.h"
 #include "kernels/core/error.h"
+#include "nn/hdf5_file.h"
+#include "nn/snapshot_layout.h"
 #include "nn/diffmpm/rollout.h"
 #include "nn/nclaw/fixed_corotated.h"
 #include "tests/support/scratch_folder.h"
 
 namespace romp::nclaw {
 namespace {
+
+namespace fs = std::filesystem;
 
 constexpr int64_t kFrames = 20;
 
@@ -87,6 +97,38 @@ TEST(GroundTruth, RejectsFramesThatSkipSubsteps) {
   } catch (const Error& error) {
     EXPECT_NE(std::string(error.what()).find("one frame per substep"), std::string::npos) << error.what();
   }
+}
+
+// A trajectory with a NaN or far-away coordinate once made the differentiable P2G write outside its grid
+// (learn-law crashed): such a frame is refused when it is read, naming the frame and the particle.
+TEST(GroundTruth, PositionsOutsideTheDomainOrNotFiniteAreRefused) {
+  const test::ScratchFolder folder;
+  const std::string clean = run(folder, cube_scene(), "cube.h5");
+  const std::int64_t n = 1000;
+  const auto corrupted = [&](std::int64_t frame, const std::string& field, std::int64_t row, float value) {
+    const std::string path = folder.file("corrupted.h5");
+    fs::copy_file(clean, path, fs::copy_options::overwrite_existing);
+    hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadWrite, "snapshot");
+    const std::string dataset = io::frame_group_name(frame) + "/" + field;
+    const hdf5::Shape shape = file.dataset_shape(dataset);
+    std::vector<float> values = file.read_dataset<float>(dataset, shape);
+    values[std::size_t(row * std::int64_t(shape[1]) + 1)] = value;  // its second component
+    file.remove(dataset);
+    file.write_dataset(dataset, shape, values);
+    return path;
+  };
+  const auto error = [](const std::string& path) {
+    return test::error_message([&] { read_ground_truth(path); });
+  };
+  const std::string nan_position = error(corrupted(7, "x", 42, std::nanf("")));
+  EXPECT_NE(nan_position.find("frame 7, particle 42: x[1] = nan is outside the domain's interior [0.05, 0.95] m"),
+            std::string::npos)
+      << nan_position;
+  const std::string far = error(corrupted(3, "x", n - 1, 1e6f));
+  EXPECT_NE(far.find("frame 3, particle 999: x[1] = 1000000 is outside"), std::string::npos) << far;
+  const std::string velocity = error(corrupted(0, "v", 5, std::numeric_limits<float>::infinity()));
+  EXPECT_NE(velocity.find("frame 0, v of particle"), std::string::npos) << velocity;
+  EXPECT_NO_THROW(read_ground_truth(clean));
 }
 
 }  // namespace
