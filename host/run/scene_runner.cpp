@@ -14,6 +14,7 @@
 #include "host/io/checkpoint.h"
 #include "host/io/io_worker.h"
 #include "host/io/obj_export.h"
+#include "host/io/output_lock.h"
 #include "host/io/snapshot_writer.h"
 #include "host/run/interrupt.h"
 #include "host/run/progress.h"
@@ -80,6 +81,8 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   io::FieldMask fields = io::parse_fields(scene.output.fields);
   const bool ply = scene.output.ply || options.ply;
   const std::string checkpoint_file = io::checkpoint_path(output);
+  // Held until the run returns: a second run (or --resume) of the same output is refused, not interleaved.
+  const io::OutputLock output_lock(output);
 
   if (options.resume && options.make_reduced)
     throw Error("--resume continues full-order runs; a reduced-order run is fast to repeat from the start");

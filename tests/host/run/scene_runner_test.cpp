@@ -10,6 +10,7 @@
 #include <string>
 
 #include "host/engine/full_order_sim.h"
+#include "host/io/output_lock.h"
 #include "host/io/snapshot_writer.h"
 #include "host/scene/scene_parser.h"
 #include "host/scene/toml_reader.h"
@@ -77,6 +78,26 @@ TEST_F(SceneRunner, WritesEveryFrameAndLeavesOnlyTheFinishedFiles) {
   EXPECT_EQ(reader.frame_count(), 9);
   EXPECT_EQ(reader.header().scene, scene.resolved_text);
   EXPECT_NEAR(reader.read_frame(8).time, 0.04, 1e-12);
+}
+
+// Two runs of one output once interleaved their frames (the first exited 0 with half of them): while one
+// run holds the output, another (or a --resume of it) is refused before it writes anything.
+TEST_F(SceneRunner, ASecondRunOfTheSameOutputIsRefusedWhileTheFirstHoldsIt) {
+  const scene::Scene scene = scene::parse_scene(cube_scene("jelly"), "cube.toml");
+  RunOptions o = options("cube.h5");
+  {
+    const io::OutputLock first_run(o.output);
+    for (const bool resume : {false, true}) {
+      o.resume = resume;
+      const std::string error = test::error_message([&] { run_scene(Exec::cpu(), scene, o); });
+      EXPECT_NE(error.find(o.output + " is being written by process"), std::string::npos) << error;
+      EXPECT_FALSE(fs::exists(io::partial_path(o.output)));
+      EXPECT_FALSE(fs::exists(o.output));
+    }
+  }
+  o.resume = false;
+  EXPECT_EQ(run_scene(Exec::cpu(), scene, o).frames_written, 8);
+  EXPECT_FALSE(fs::exists(o.output + ".lock"));
 }
 
 TEST_F(SceneRunner, ReducedRunWritesTheDecodedStateOfEveryMaterialPoint) {
