@@ -109,12 +109,16 @@ RomDataset load_rom_dataset(const std::string& dir, const RomDatasetOptions& opt
   data.dir = dir;
   try {
     data.parameter_names = manifest.at("parameters").get<std::vector<std::string>>();
+    std::size_t position = 0;
     for (const nlohmann::json& entry : manifest.at("members")) {
       try {
         data.members.push_back(parse_member(entry, data.parameter_names));
       } catch (const std::exception& error) {
-        throw Error("member " + entry.dump() + ": " + error.what());
+        // Named by its place in the list, not by its text: printing a hostile entry (an array nested
+        // 200,000 deep) recurses as deep as it is nested and overflowed the stack.
+        throw Error("members[" + std::to_string(position) + "] (a JSON " + entry.type_name() + "): " + error.what());
       }
+      ++position;
     }
   } catch (const std::exception& error) {
     throw Error(label + ": manifest.json: " + error.what());

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <string>
+
 #include "nn/hdf5_file.h"
 #include "tests/nn/rom/twisted_bar.h"
 #include "tests/support/scratch_folder.h"
@@ -73,6 +76,19 @@ TEST(RomDataset, SnapshotWithoutDeformationGradientsIsRejectedNamingIt) {
   const std::string message = test::error_message([&] { load_rom_dataset(folder.path().string(), {}); });
   EXPECT_NE(message.find("member_000001.h5"), std::string::npos) << message;
   EXPECT_NE(message.find("lacks \"F\""), std::string::npos) << message;
+}
+
+// A manifest whose member is an array nested 200,000 deep once crashed train-rom while the error was
+// written: it is refused, naming the member by its place.
+TEST(RomDataset, ADeeplyNestedMemberIsRefusedByItsPlace) {
+  const test::ScratchFolder folder;
+  const int depth = 200000;
+  std::ofstream(folder.file("manifest.json"))
+      << R"({"format": "romp-sweep", "format_version": 1, "parameters": ["a"], "members": [)"
+      << std::string(depth, '[') << std::string(depth, ']') << "]}";
+  const std::string message = test::error_message([&] { load_rom_dataset(folder.path().string(), {}); });
+  EXPECT_NE(message.find("manifest.json: members[0] (a JSON array)"), std::string::npos) << message;
+  EXPECT_LT(message.size(), 500u) << "the error quotes the member";
 }
 
 TEST(RomDataset, FolderWithoutManifestIsRejected) {
