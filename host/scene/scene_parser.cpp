@@ -29,6 +29,8 @@ constexpr double kPi = 3.14159265358979323846;
 // A ratio that must be a whole number (domain size / dx, end time × frame rate) may miss it by this
 // much relative to itself, which absorbs decimal literals such as 0.3 / 0.1.
 constexpr double kWholeTolerance = 1e-6;
+// The largest scene file read: far beyond a hand-written or generated scene (meshes are files of their own).
+constexpr std::uintmax_t kMaxSceneBytes = std::uintmax_t(8) << 20;
 
 struct SceneReader {
   ReadContext context;
@@ -484,6 +486,15 @@ Scene parse_scene(const std::string& text, const std::string& file, const Parame
 }
 
 Scene load_scene(const std::string& path, const ParameterValues& overrides, const LearnedLaws& laws) {
+  // Checked before reading: `romp check /dev/urandom` once read gigabytes.
+  std::error_code error;
+  if (!fs::is_regular_file(path, error))
+    throw SceneError(fmt::format("{}: not a regular file (a scene is a TOML file)", path));
+  const std::uintmax_t bytes = fs::file_size(path, error);
+  if (!error && bytes > kMaxSceneBytes)
+    throw SceneError(fmt::format("{}: {} bytes; a scene file may hold at most {} (meshes and models are files of "
+                                 "their own)",
+                                 path, bytes, kMaxSceneBytes));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(fmt::format("{}: cannot open the scene file", path));
   std::ostringstream text;

@@ -68,7 +68,7 @@ void TableReader::fail(const std::string& key, const std::string& why) const {
 }
 
 const toml::node* TableReader::find(const std::string& key) {
-  if (std::find(read_.begin(), read_.end(), key) == read_.end()) read_.push_back(key);
+  read_.insert(key);
   return in_.get(key);
 }
 
@@ -261,11 +261,9 @@ std::vector<std::string> TableReader::keys() const {
 void TableReader::finish() const {
   for (const auto& [key, node] : in_) {
     const std::string name(key.str());
-    if (std::find(read_.begin(), read_.end(), name) != read_.end()) continue;
-    std::vector<std::string> allowed = read_;
-    std::sort(allowed.begin(), allowed.end());
+    if (read_.count(name) != 0) continue;
     std::string list;
-    for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    for (const std::string& a : read_) list += (list.empty() ? "" : ", ") + a;
     throw SceneError(fmt::format("{}: {}: unknown key '{}'; allowed here: {}", where(key.source()), dotted(""), name,
                             list.empty() ? "none" : list));
   }

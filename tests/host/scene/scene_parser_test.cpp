@@ -83,6 +83,26 @@ TEST(SceneParser, StepsThatVanishInFloatAreRefused) {
   EXPECT_EQ(parse_scene(text, "cube.toml").fixed_dt, 1e-6);
 }
 
+// `romp check /dev/urandom` once read gigabytes, and a scene of 100,000 parameters took 88 s to parse
+// (each key was looked up in a list of the keys read so far; now a set).
+TEST(SceneParser, HostileFilesAreRefusedAndManyParametersParseQuickly) {
+  EXPECT_NE(test::error_message([] { load_scene("/dev/urandom"); }).find("/dev/urandom: not a regular file"),
+            std::string::npos);
+  const test::ScratchFolder folder;
+  {
+    std::ofstream big(folder.file("big.toml"));
+    big << "# " << std::string(9 << 20, 'x') << "\n";
+  }
+  EXPECT_NE(test::error_message([&] { load_scene(folder.file("big.toml")); }).find("a scene file may hold at most"),
+            std::string::npos);
+
+  std::string text = kCube;
+  std::string parameters = "[parameters]\nspeed = 2.0\n";
+  for (int k = 0; k < 100000; ++k) parameters += "p" + std::to_string(k) + " = " + std::to_string(k) + "\n";
+  text.replace(text.find("[parameters]\nspeed = 2.0\n"), 24, parameters);
+  EXPECT_EQ(parse_scene(text, "cube.toml").parameters.size(), 100001u);
+}
+
 TEST(SceneParser, TheImplicitIntegratorAllowsALargerCfl) {
   EXPECT_EQ(parse_scene(kCube, "cube.toml").integrator, "explicit");
   std::string text = kCube;
