@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include <csignal>
 #include <exception>
 
 #include "host/backend_selection.h"
@@ -21,6 +22,9 @@
 #include "kernels/core/error.h"
 
 int main(int argc, char** argv) {
+  // A reader that closes the pipe (`romp info | head -1`) makes a write fail with EPIPE, an error romp
+  // reports, instead of killing the process mid-run with SIGPIPE.
+  std::signal(SIGPIPE, SIG_IGN);
   using namespace romp::cli;
   CLI::App app{"romp: material point method with neural reduced-order models"};
   app.require_subcommand(1);

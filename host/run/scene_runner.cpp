@@ -81,6 +81,9 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   io::FieldMask fields = io::parse_fields(scene.output.fields);
   const bool ply = scene.output.ply || options.ply;
   const std::string checkpoint_file = io::checkpoint_path(output);
+  // Checked before the first substep: a folder here once failed only when the finished run was renamed.
+  if (fs::is_directory(output))
+    throw scene::SceneError(fmt::format("{}: the output is a folder; a run writes a snapshot file (.h5)", output));
   // Held until the run returns: a second run (or --resume) of the same output is refused, not interleaved.
   const io::OutputLock output_lock(output);
 

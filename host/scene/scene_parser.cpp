@@ -125,10 +125,17 @@ Vec3<double> shape_center(const ShapeSpec& shape) {
   return shape.type == ShapeType::Capsule ? (shape.a + shape.b) * 0.5 : shape.center;
 }
 
+// Whether `name` holds a control character (a byte below 0x20, or DEL): names reach terminals and logs,
+// where such a byte would act rather than show.
+bool has_control_character(const std::string& name) {
+  return std::any_of(name.begin(), name.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
+}
+
 void read_scene_table(SceneReader& r, TableReader t, const std::string& file) {
   r.scene.name = t.string("name", fs::path(file).stem().string());
-  if (r.scene.name.empty() || r.scene.name.find_first_of("/\\") != std::string::npos)
-    t.fail("name", "must be a non-empty name without slashes (it names the output files)");
+  if (r.scene.name.empty() || r.scene.name.find_first_of("/\\") != std::string::npos ||
+      has_control_character(r.scene.name))
+    t.fail("name", "must be a non-empty name without slashes or control characters (it names the output files)");
   r.scene.description = t.string("description", "");
   r.scene.mode = t.choice("mode", "full-order", {"full-order"});
   t.finish();
@@ -295,6 +302,7 @@ void read_objects(SceneReader& r, TableReader& root) {
     TableReader& t = objects[i];
     ObjectSpec object;
     object.name = t.string("name", fmt::format("object{}", i));
+    if (has_control_character(object.name)) t.fail("name", "must not hold control characters (it is printed)");
     object.material = material_index(r, t);
     object.shape = read_shape(t.table("shape"), {"box", "sphere", "cylinder", "capsule", "mesh"}, r.folder);
     object.sampling = read_sampling(t.optional_table("sampling"));

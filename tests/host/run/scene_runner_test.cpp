@@ -100,6 +100,20 @@ TEST_F(SceneRunner, ASecondRunOfTheSameOutputIsRefusedWhileTheFirstHoldsIt) {
   EXPECT_FALSE(fs::exists(o.output + ".lock"));
 }
 
+// An output that names a folder once failed only after the whole run, at the final rename.
+TEST_F(SceneRunner, AnOutputThatIsAFolderIsRefusedBeforeTheRun) {
+  const scene::Scene scene = scene::parse_scene(cube_scene("jelly"), "cube.toml");
+  RunOptions o = options("folder.h5");
+  fs::create_directories(o.output);
+  try {
+    run_scene(Exec::cpu(), scene, o);
+    FAIL() << "accepted";
+  } catch (const scene::SceneError& error) {
+    EXPECT_NE(std::string(error.what()).find("the output is a folder"), std::string::npos) << error.what();
+  }
+  EXPECT_FALSE(fs::exists(io::partial_path(o.output)));
+}
+
 TEST_F(SceneRunner, ReducedRunWritesTheDecodedStateOfEveryMaterialPoint) {
   // The translation family g(X; x̂) = X + x̂ as the model: every frame is the initial body moved by x̂.
   const scene::Scene scene = scene::parse_scene(cube_scene("jelly"), "cube.toml");

@@ -103,6 +103,19 @@ TEST(SceneParser, HostileFilesAreRefusedAndManyParametersParseQuickly) {
   EXPECT_EQ(parse_scene(text, "cube.toml").parameters.size(), 100001u);
 }
 
+// Names reach the terminal: an escape sequence in one once went there raw.
+TEST(SceneParser, NamesWithControlCharactersAreRefused) {
+  const std::string scene_name = test::error_message(
+      [] { parse_scene("[scene]\nname = \"cube\\u001b[31m\"\n" + std::string(kCube), "cube.toml"); });
+  EXPECT_NE(scene_name.find("scene.name: must be a non-empty name without slashes or control characters"),
+            std::string::npos)
+      << scene_name;
+  std::string text = kCube;
+  text.replace(text.find("material = \"jelly\""), 18, "material = \"jelly\"\nname = \"a\\tb\"");
+  const std::string object_name = test::error_message([&] { parse_scene(text, "cube.toml"); });
+  EXPECT_NE(object_name.find("name: must not hold control characters"), std::string::npos) << object_name;
+}
+
 TEST(SceneParser, TheImplicitIntegratorAllowsALargerCfl) {
   EXPECT_EQ(parse_scene(kCube, "cube.toml").integrator, "explicit");
   std::string text = kCube;
