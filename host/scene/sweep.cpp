@@ -72,9 +72,16 @@ std::vector<SweepMember> sweep_members(const SweepSpec& sweep) {
   geometry::Random random(sweep.seed);
   const std::size_t dimensions = sweep.axes.size();
   if (sweep.method == SweepMethod::Grid) {
+    // Multiplied with the bound checked first: 4 axes of 65,536 values once wrapped to 0 members.
+    constexpr std::int64_t kMostMembers = 1000000;
     std::int64_t count = 1;
-    for (const SweepAxis& axis : sweep.axes) count *= std::int64_t(axis.values.size());
-    ROMP_CHECK(count <= 1000000, fmt::format("the sweep grid has {} members; at most 1e6 are allowed", count));
+    for (const SweepAxis& axis : sweep.axes) {
+      const std::int64_t values = std::int64_t(axis.values.size());
+      if (values > kMostMembers / count)
+        throw SceneError(fmt::format("[sweep]: the grid of {} axes has more than {} members; at most {} are allowed",
+                                     sweep.axes.size(), kMostMembers, kMostMembers));
+      count *= values;
+    }
     for (std::int64_t m = 0; m < count; ++m) {
       SweepMember member;
       member.index = m;

@@ -5,6 +5,10 @@
 
 #include <algorithm>
 #include <set>
+#include <string>
+#include <vector>
+
+#include "host/scene/toml_reader.h"
 
 namespace romp::scene {
 namespace {
@@ -29,6 +33,21 @@ TEST(Sweep, GridIsTheFullFactorialWithTheLastAxisFastest) {
   std::set<std::pair<double, double>> distinct;
   for (const SweepMember& m : members) distinct.insert({m.values.at("gravity"), m.values.at("angle")});
   EXPECT_EQ(distinct.size(), 6u);
+}
+
+// 65,536⁴ members once wrapped to 0 (and the sweep exited 0 having run nothing).
+TEST(Sweep, AGridBeyondAMillionMembersIsRefusedNotWrapped) {
+  SweepSpec sweep = two_axis_sweep(SweepMethod::Grid);
+  sweep.axes.clear();
+  for (const char* name : {"a", "b", "c", "d"}) sweep.axes.push_back({name, std::vector<double>(65536, 1.0), 0.0, 1.0});
+  try {
+    sweep_members(sweep);
+    FAIL() << "accepted";
+  } catch (const SceneError& error) {
+    EXPECT_NE(std::string(error.what()).find("more than 1000000 members"), std::string::npos) << error.what();
+  }
+  sweep.axes.resize(1);
+  EXPECT_EQ(sweep_members(sweep).size(), 65536u);
 }
 
 TEST(Sweep, LatinHypercubePutsOneSampleInEveryStratumOfEveryAxis) {
