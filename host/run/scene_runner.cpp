@@ -51,6 +51,18 @@ io::SnapshotHeader snapshot_header(const scene::Scene& scene, const mpm::Particl
     } catch (const Error& error) {
       throw scene::SceneError(fmt::format("--output-points: {}", error.what()));
     }
+    // The points are carried or decoded from their reference positions: a non-finite one (an all-NaN
+    // snapshot) would write NaN frames, and one outside the domain has no grid to ride on.
+    const std::size_t n = points.X.size() / 3;
+    for (int a = 0; a < 3; ++a)
+      for (std::size_t p = 0; p < n; ++p) {
+        const float X = points.X[std::size_t(a) * n + p];
+        const double size = double(scene.domain_cells[a]) * scene.dx;
+        if (!(X >= 0.0f && double(X) <= size))
+          throw scene::SceneError(fmt::format("--output-points {}: point {} has X[{}] = {}, outside the domain [0, {:.6g}] m "
+                                              "(or not finite)",
+                                              output_points, p, a, X, size));
+      }
     header.X = points.X;
     header.mass = points.mass;
     header.volume0 = points.volume0;

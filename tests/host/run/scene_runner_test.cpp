@@ -8,12 +8,14 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "host/engine/full_order_sim.h"
 #include "host/io/output_lock.h"
 #include "host/io/snapshot_writer.h"
 #include "host/scene/scene_parser.h"
 #include "host/scene/toml_reader.h"
+#include "nn/hdf5_file.h"
 #include "nn/snapshot_layout.h"
 #include "nn/snapshot_reader.h"
 #include "tests/host/rom_test_maps.h"
@@ -212,6 +214,33 @@ TEST_F(SceneRunner, OutputPointsThatAreNotASnapshotAreRefusedByName) {
   }
   EXPECT_FALSE(fs::exists(o.output));
   EXPECT_FALSE(fs::exists(io::partial_path(o.output)));
+}
+
+// Points whose reference positions are not finite (an all-NaN snapshot once gave NaN frames) or lie
+// outside the domain are refused by name before the run.
+TEST_F(SceneRunner, OutputPointsOutsideTheDomainOrNotFiniteAreRefused) {
+  const scene::Scene scene = scene::parse_scene(cube_scene("jelly"), "cube.toml");
+  const RunOptions reference = options("reference.h5");
+  run_scene(Exec::cpu(), scene, reference);
+  for (const float bad : {std::nanf(""), 2.0f}) {
+    {
+      hdf5::File file = hdf5::File::open(reference.output, hdf5::Mode::ReadWrite, "snapshot");
+      const hdf5::Shape shape = file.dataset_shape("particles/X");
+      std::vector<float> X = file.read_dataset<float>("particles/X", shape);
+      X[3 * 17 + 1] = bad;  // point 17's y
+      file.remove("particles/X");
+      file.write_dataset("particles/X", shape, X);
+    }
+    RunOptions o = options("tracers.h5");
+    o.output_points = reference.output;
+    try {
+      run_scene(Exec::cpu(), scene, o);
+      FAIL() << "X[1] = " << bad << " was taken";
+    } catch (const scene::SceneError& error) {
+      EXPECT_NE(std::string(error.what()).find("point 17 has X[1] = "), std::string::npos) << error.what();
+    }
+    EXPECT_FALSE(fs::exists(io::partial_path(o.output)));
+  }
 }
 
 // Runs `scene` whole and in two parts (stopped after frame 3, resumed) on one CPU thread, and checks
