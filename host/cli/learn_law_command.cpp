@@ -115,6 +115,13 @@ int learn_law_command(DeviceChoice choice, int threads, const LearnLawOptions& o
   if (std::filesystem::path(options.output).extension() != extension)
     throw CLI::ValidationError("--output", "learn-law --method " + options.method + " writes a " + extension +
                                                " file, got " + options.output);
+  // Checked before training, not after it: every method ends by measuring the reconstruction error
+  // every kEvaluationFrameStride frames of a rollout of --steps substeps.
+  if (options.steps < nn::kEvaluationFrameStride)
+    throw CLI::ValidationError("--steps", "the reconstruction error is measured every " +
+                                              std::to_string(nn::kEvaluationFrameStride) +
+                                              " substeps, so --steps must be at least that, got " +
+                                              std::to_string(options.steps));
   if (threads > 0) {
     // The romp kernels behind the autograd functions and LibTorch's own ops share the budget.
     omp_set_num_threads(threads);

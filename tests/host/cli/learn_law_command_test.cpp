@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string>
 
 #include "host/nclaw/ground_truth.h"
 #include "host/run/scene_runner.h"
@@ -50,6 +51,23 @@ TEST_F(LearnLawCommand, WritesTheLawFileAndRemovesItsCheckpoint) {
   EXPECT_EQ(law.training.loss.size(), 2u);
   EXPECT_GT(law.training.reconstruction_error, 0.0);
   EXPECT_FALSE(std::filesystem::exists(options_.output + ".checkpoint"));
+}
+
+// --steps below the reconstruction error's frame stride once trained every epoch and then failed; it is
+// refused before training, with nothing written.
+TEST_F(LearnLawCommand, StepsBelowTheEvaluationStrideAreRefusedBeforeTraining) {
+  options_.steps = nn::kEvaluationFrameStride - 1;
+  for (const std::string method : {"motion", "labeled"}) {
+    options_.method = method;
+    try {
+      learn_law_command(DeviceChoice::Cpu, 1, options_);
+      FAIL() << method << ": accepted";
+    } catch (const CLI::ValidationError& error) {
+      EXPECT_NE(std::string(error.what()).find("measured every 5 substeps, so --steps must be at least that, got 4"), std::string::npos) << error.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(options_.output));
+    EXPECT_FALSE(std::filesystem::exists(options_.output + ".checkpoint"));
+  }
 }
 
 TEST_F(LearnLawCommand, ResumeContinuesACheckpointAndNeedsOne) {
