@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -45,8 +46,9 @@ class FullOrderSim {
   float stable_dt();
   // One substep of length dt.
   void substep(float dt);
-  // Substeps until time() reaches t (the last substep is shortened to land on t).
-  void advance_to(double t);
+  // Substeps until time() reaches t (the last substep is shortened to land on t), or until `stop`, asked
+  // before each substep, answers true; returns whether time() reached t.
+  bool advance_to(double t, const std::function<bool()>& stop = {});
   // Sets the clock of a run resumed from a checkpoint whose particle state was passed to the constructor.
   void restore_clock(double time, std::int64_t steps);
 

@@ -593,8 +593,8 @@ rom::QuadratureTally ReducedSim::quadrature_tally() const {
   return tally_.empty() ? rom::QuadratureTally{} : tally_.to_host(exec_.stream)[0];
 }
 
-void ReducedSim::advance_to(double t) {
-  advance_clock(time_, t, [this] { return double(stable_dt()); }, [this](float dt) { substep(dt); });
+bool ReducedSim::advance_to(double t, const std::function<bool()>& stop) {
+  return advance_clock(time_, t, [this] { return double(stable_dt()); }, [this](float dt) { substep(dt); }, stop);
 }
 
 ReducedSim::DecodedState ReducedSim::decode(const std::vector<float>& X_host) {

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -82,8 +83,9 @@ class ReducedSim {
 
   float stable_dt() const;
   void substep(float dt);
-  // Substeps until time() reaches t (the last substep is shortened to land on t).
-  void advance_to(double t);
+  // Substeps until time() reaches t (the last substep is shortened to land on t), or until `stop`, asked
+  // before each substep, answers true; returns whether time() reached t.
+  bool advance_to(double t, const std::function<bool()>& stop = {});
 
   // The state at reference points X (3 planes of n): x = g(X; x̂), F = ∇_X g, v = (∂g/∂x̂) v̂. Any
   // points of the reference body will do, e.g. a finer sampling of it (super-resolution, ROM paper,

@@ -125,11 +125,12 @@ void StepInputs::check_stages(const std::string& who, std::int64_t step, double 
   }
 }
 
-void advance_clock(double& time, double t, const std::function<double()>& stable_dt,
-                   const std::function<void(float)>& substep) {
+bool advance_clock(double& time, double t, const std::function<double()>& stable_dt,
+                   const std::function<void(float)>& substep, const std::function<bool()>& stop) {
   // Substeps shorter than this fraction of the stable Δt are merged into the previous one.
   constexpr double kMergeFraction = 1e-3;
   while (time < t) {
+    if (stop && stop()) return false;
     const double dt = stable_dt();
     const double remaining = t - time;
     if (remaining >= dt * (1.0 + kMergeFraction)) {
@@ -141,6 +142,7 @@ void advance_clock(double& time, double t, const std::function<double()>& stable
     substep(float(remaining));
     time = t;
   }
+  return true;
 }
 
 void check_dirichlet_groups(const FullOrderConfig& config, const std::vector<std::int32_t>& groups,

@@ -76,9 +76,10 @@ class StepInputs {
 
 // Substeps until `time` reaches t: `substep(dt)` advances `time` by dt, `stable_dt()` says how far it
 // may go. The last substep is shortened to land on t, and one shorter than 1e-3 of the stable Δt is
-// merged into the one before.
-void advance_clock(double& time, double t, const std::function<double()>& stable_dt,
-                   const std::function<void(float)>& substep);
+// merged into the one before. `stop`, where given, is asked before each substep: when it answers true
+// the clock stops there, short of t. Returns whether `time` reached t.
+bool advance_clock(double& time, double t, const std::function<double()>& stable_dt,
+                   const std::function<void(float)>& substep, const std::function<bool()>& stop = {});
 
 // Throws if a group of `groups` (of `what`: "particle", "domain corner") is not in `config`.
 void check_dirichlet_groups(const FullOrderConfig& config, const std::vector<std::int32_t>& groups,

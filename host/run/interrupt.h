@@ -1,5 +1,5 @@
-// Ctrl-C during a run: the first SIGINT or SIGTERM asks the run to stop after the frame it is on
-// (leaving a resumable partial output); a second one ends the process at once.
+// Ctrl-C during a run: the first SIGINT or SIGTERM asks the run to stop at the next substep, keeping
+// the frames completed before it (a resumable partial output); a second one ends the process at once.
 #pragma once
 
 namespace romp::run {

@@ -199,7 +199,12 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   const memory::Traffic traffic_before = memory::traffic();
   for (std::int64_t frame = first_frame + 1; frame <= scene.frame_count; ++frame) {
     try {
-      sim.advance_to(frame_time(scene, frame));
+      // An interrupt stops the run at the next substep, not at the end of the frame: the frame under way
+      // is dropped, and the frames before it (with the last one's checkpoint) stay to resume from.
+      if (!sim.advance_to(frame_time(scene, frame), interrupt_requested)) {
+        result.interrupted = true;
+        break;
+      }
     } catch (const NonFiniteError& error) {
       if (options.progress) progress.finish();
       worker.drain();

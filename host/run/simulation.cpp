@@ -16,7 +16,7 @@ class FullOrderRun final : public Simulation {
       : sim_(exec, config, particles) {}
 
   FullOrderSim& sim() { return sim_; }
-  void advance_to(double t) override { sim_.advance_to(t); }
+  bool advance_to(double t, const std::function<bool()>& stop) override { return sim_.advance_to(t, stop); }
   io::FrameData capture() override {
     io::FrameData frame;
     frame.time = sim_.time();
@@ -72,7 +72,7 @@ class ReducedRun final : public Simulation {
              rom::DeformationMapWeights map, std::vector<float> xhat, const ReducedOptions& options)
       : sim_(exec, config, particles, std::move(map), std::move(xhat), options), X_(particles.x) {}
 
-  void advance_to(double t) override { sim_.advance_to(t); }
+  bool advance_to(double t, const std::function<bool()>& stop) override { return sim_.advance_to(t, stop); }
   io::FrameData capture() override { return decoded_at(X_); }
   void track_points(const std::vector<float>& X) override { points_X_ = X; }
   io::FrameData capture_points() override { return decoded_at(points_X_); }

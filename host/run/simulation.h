@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -25,8 +26,9 @@ struct DomainState {
 class Simulation {
  public:
   virtual ~Simulation() = default;
-  // Substeps until time() reaches t.
-  virtual void advance_to(double t) = 0;
+  // Substeps until time() reaches t, or until `stop` (asked before each substep) answers true; returns
+  // whether time() reached t.
+  virtual bool advance_to(double t, const std::function<bool()>& stop) = 0;
   // The state of every material point in the initial order; every field filled (a checkpoint needs them).
   virtual io::FrameData capture() = 0;
   virtual double time() const = 0;

@@ -60,6 +60,21 @@ Momenta momenta(FullOrderSim& sim, const std::vector<float>& mass) {
   return total;
 }
 
+// An interrupt stops a run at the next substep rather than at the end of the frame: advance_to asks its
+// `stop` before each substep and stops short of t when it answers true.
+TEST(FullOrderSim, AdvanceStopsAtTheSubstepItIsAskedTo) {
+  const float dx = 1.0f / 32.0f;
+  const mpm::ParticleInit init = test::lattice_box({0.40f, 0.55f, 0.40f}, {0.50f, 0.65f, 0.50f}, dx, 2, kJellyDensity);
+  FullOrderSim sim(test::exec(), falling_jelly_config(dx), init);
+  int asked = 0;
+  EXPECT_FALSE(sim.advance_to(1.0, [&asked] { return ++asked > 3; }));
+  EXPECT_EQ(sim.steps(), 3);
+  EXPECT_LT(sim.time(), 1.0);
+  const double t = sim.time() + 0.002;
+  EXPECT_TRUE(sim.advance_to(t));
+  EXPECT_NEAR(sim.time(), t, 1e-12);
+}
+
 // Symplectic Euler lands on the parabola up to ½ g t Δt, and float positions drift by about an ulp
 // per step: 50 steps of 1e-4 s keep both well below the 1e-5 relative bound, while gravity's share
 // of the displacement (1.2e-4 m) stays 20 times larger than the tolerance, so a wrong g shows.
