@@ -38,6 +38,16 @@ void for_each_cpu(const Exec& exec, Index n, const F& functor) {
 // high on sm_80/sm_90 for register-light functors.
 inline constexpr int kForEachBlockSize = 256;
 
+// After a launch on exec's stream, from for_each and from the custom kernels alike: the launch's own
+// error, and in debug builds (or with ROMP_SYNC_LAUNCHES) any fault of the kernel, surfaced at the launch
+// that caused it.
+inline void check_launch(const Exec& exec) {
+  ROMP_CUDA_CHECK(cudaGetLastError());
+#if !defined(NDEBUG) || defined(ROMP_SYNC_LAUNCHES)
+  ROMP_CUDA_CHECK(cudaStreamSynchronize(exec.stream));
+#endif
+}
+
 template <class F>
 __global__ void for_each_kernel(Index n, F functor) {
   const Index i = Index(blockIdx.x) * blockDim.x + threadIdx.x;
@@ -49,11 +59,7 @@ void for_each_cuda(const Exec& exec, Index n, const F& functor) {
   const Index blocks = (n + kForEachBlockSize - 1) / kForEachBlockSize;
   ROMP_CHECK(blocks <= INT_MAX, "for_each: " + std::to_string(n) + " elements exceed one CUDA launch");
   for_each_kernel<<<unsigned(blocks), kForEachBlockSize, 0, exec.stream>>>(n, functor);
-  ROMP_CUDA_CHECK(cudaGetLastError());
-#if !defined(NDEBUG) || defined(ROMP_SYNC_LAUNCHES)
-  // Debug builds surface asynchronous faults at the launch that caused them.
-  ROMP_CUDA_CHECK(cudaStreamSynchronize(exec.stream));
-#endif
+  check_launch(exec);
 }
 #endif
 

@@ -126,13 +126,13 @@ void particle_to_grid_tiled(const Exec& exec, const ParticleView& particles, con
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
     tiled_block_to_grid<<<unsigned(blocks), kTiledThreads, 0, exec.stream>>>(particles, grid, step, block_starts);
-    ROMP_CUDA_CHECK(cudaGetLastError());
+    romp::detail::check_launch(exec);
     return;
 #else
     throw Error("particle_to_grid_tiled on CUDA from a translation unit not compiled by nvcc");
 #endif
   }
-  const int threads = exec.threads > 0 ? exec.threads : omp_get_max_threads();
+  const int threads = romp::detail::cpu_threads(exec);
   const TiledBlockToGrid run{particles, grid, step, block_starts};
   const memory::DeviceAccess launch;
   // Blocks hold very different particle counts: hand them out a few at a time.

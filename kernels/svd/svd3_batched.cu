@@ -92,8 +92,7 @@ ROMP_SVD_SIMD_CLONES void run_simd(const Element& element, Index begin, Index en
 template <class Element>
 void run_simd_chunks(const Exec& exec, Index count, const Element& element) {
   const Index chunks = (count + kSimdChunk - 1) / kSimdChunk;
-  // Threads as in romp::for_each: exec.threads, or OpenMP's default for 0.
-  const int threads = exec.threads > 0 ? exec.threads : omp_get_max_threads();
+  const int threads = detail::cpu_threads(exec);  // as romp::for_each's
   const memory::DeviceAccess launch;
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (Index chunk = 0; chunk < chunks; ++chunk) {
