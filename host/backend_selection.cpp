@@ -4,10 +4,10 @@
 #include <omp.h>
 #include <spdlog/spdlog.h>
 
+#include <cstdlib>
 #include <mutex>
 
 #include "kernels/core/error.h"
-#include "kernels/core/openmp_waits.h"
 
 namespace romp {
 
@@ -59,6 +59,14 @@ Exec select_backend(DeviceChoice choice, int cpu_threads) {
   static std::once_flag reported;
   std::call_once(reported, [&] { spdlog::info("{}", describe_selection(exec, probe)); });
   return exec;
+}
+
+std::string openmp_wait_policy() {
+  const char* policy = std::getenv("OMP_WAIT_POLICY");
+  if (policy == nullptr) return "the OpenMP runtime's default";
+  // The launcher marks the policy it chose, so a report can tell it from the user's.
+  const char* chosen = std::getenv("ROMP_OPENMP_WAITS");
+  return std::string(policy) + (chosen != nullptr ? " (romp's default)" : " (OMP_WAIT_POLICY)");
 }
 
 }  // namespace romp

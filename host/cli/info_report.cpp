@@ -4,7 +4,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 
-#include "kernels/core/openmp_waits.h"
+#include "host/backend_selection.h"
 
 namespace romp::cli {
 namespace {

@@ -1,6 +1,6 @@
 // The `romp` and `romp-bench` executables: launchers that start the program proper (ROMP_PROGRAM, beside
 // the launcher) with OMP_WAIT_POLICY=passive where the user left it unset, so that idle OpenMP threads
-// sleep rather than spin (kernels/core/openmp_waits.h says why). libgomp reads the variable before main()
+// sleep rather than spin (host/backend_selection.h says why). libgomp reads the variable before main()
 // runs, so it must be in the environment the program starts with; a program that set it and executed
 // itself again would load LibTorch twice (0.3–0.6 s), where this launcher loads only libc.
 #include <unistd.h>
@@ -19,6 +19,8 @@ int main(int, char** argv) {
   if (std::getenv("OMP_WAIT_POLICY") == nullptr) {
     setenv("OMP_WAIT_POLICY", "passive", 1);
     setenv("ROMP_OPENMP_WAITS", "passive", 1);  // so that reports can tell romp's choice from the user's
+  } else {
+    unsetenv("ROMP_OPENMP_WAITS");  // a marker inherited from a parent romp no longer says who chose
   }
   // The program lives beside the launcher's own file (links resolved), wherever it is started from.
   std::string self(4096, '\0');
