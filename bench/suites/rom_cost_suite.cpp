@@ -109,6 +109,12 @@ void run_rom_cost_suite(Context& context) {
                                     "Jacobians), {:.2f} iterations",
                                     per_point[0], per_point[1], per_point[2]);
         }
+        if (c.projection == RomProjection::PositionVelocity) {
+          // Each linearisation evaluates g and ∂g/∂x̂ at the samples, inside one block on CUDA.
+          const double per_substep = double(sim.gauss_newton_linearisations()) / double(sim.steps());
+          context.record(key + ".gauss_newton_linearisations_per_substep", per_substep);
+          evaluations += fmt::format("; {:.2f} Gauss–Newton linearisations per substep", per_substep);
+        }
         std::string split;
         for (const auto& [stage, seconds] : sim.stage_seconds())
           split += fmt::format(" {} {:.3g}", stage, 1e3 * seconds / double(sim.steps()));

@@ -21,7 +21,8 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
       // keeps the velocity before forces whatever the other particles use.
       grid_(exec.backend, config_.dx, config_.transfer == mpm::Transfer::PicFlip || !init.domains.empty()),
       inputs_(exec, config_),
-      speed_slot_(exec.backend, 1) {
+      speed_slot_(exec.backend, 1),
+      stage_timeline_(exec) {
   check_particle_tables(config_, init.material, init.dirichlet_group);
   check_particle_domains(config_, init);
   if (!init.domains.empty()) domains_.emplace(exec.backend, init.domains);
@@ -33,17 +34,17 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
              "solver.integrator = \"implicit\" needs analytic materials; neural laws run with the explicit integrator");
   if (!neural->empty()) neural_ = std::move(neural);
   // Pipeline order, as substep() runs them.
-  stage_seconds_ = {{"sort", 0.0}, {"grid_build", 0.0}};
-  if (neural_) stage_seconds_.emplace_back("neural_stress", 0.0);
-  stage_seconds_.emplace_back("p2g", 0.0);
-  if (enriching()) stage_seconds_.emplace_back("enrich", 0.0);
-  if (domains_) stage_seconds_.insert(stage_seconds_.end(), {{"p2c", 0.0}, {"c2g", 0.0}});
-  stage_seconds_.emplace_back("grid_update", 0.0);
-  if (implicit_) stage_seconds_.emplace_back("implicit_solve", 0.0);
-  stage_seconds_.emplace_back("g2p", 0.0);
-  if (domains_) stage_seconds_.insert(stage_seconds_.end(), {{"g2c", 0.0}, {"c2p", 0.0}});
-  if (inputs_.plastic()) stage_seconds_.emplace_back("plasticity", 0.0);
-  if (neural_) stage_seconds_.emplace_back("neural_plasticity", 0.0);
+  stages_ = {"sort", "grid_build"};
+  if (neural_) stages_.emplace_back("neural_stress");
+  stages_.emplace_back("p2g");
+  if (enriching()) stages_.emplace_back("enrich");
+  if (domains_) stages_.insert(stages_.end(), {"p2c", "c2g"});
+  stages_.emplace_back("grid_update");
+  if (implicit_) stages_.emplace_back("implicit_solve");
+  stages_.emplace_back("g2p");
+  if (domains_) stages_.insert(stages_.end(), {"g2c", "c2p"});
+  if (inputs_.plastic()) stages_.emplace_back("plasticity");
+  if (neural_) stages_.emplace_back("neural_plasticity");
 }
 
 FullOrderSim::FullOrderSim(FullOrderSim&&) = default;
@@ -73,7 +74,7 @@ void FullOrderSim::substep(float dt) {
       if (time_ >= release.start && time_ < release.end) mpm::release_domains(exec_, particles_.view(), release.region);
   mpm::StepParams step = inputs_.at(time_, dt);
 
-  StageClock timed(exec_, stage_seconds_);
+  StageClock timed(stage_timeline_);
   const float inverse_dx = 1.0f / config_.dx;
   timed([&] { particles_.sort_by_block(exec_, inverse_dx); });
   const mpm::ParticleView particles = particles_.view();
@@ -133,7 +134,7 @@ void FullOrderSim::set_tracers(const std::vector<float>& X) {
   }
   tracers_.emplace(exec_, X, layout);
   // Last in the substep: the grid's velocities stay as the update left them until the next rebuild.
-  if (stage_seconds_.back().first != "tracers") stage_seconds_.emplace_back("tracers", 0.0);
+  if (stages_.back() != "tracers") stages_.emplace_back("tracers");
 }
 
 std::vector<float> FullOrderSim::tracer_positions_on_host() const {
@@ -165,6 +166,8 @@ void FullOrderSim::restore_clock(double time, std::int64_t steps) {
   steps_ = steps;
 }
 
-std::vector<std::pair<std::string, double>> FullOrderSim::stage_seconds() const { return stage_seconds_; }
+std::vector<std::pair<std::string, double>> FullOrderSim::stage_seconds() const {
+  return stage_table(stages_, stage_timeline_);
+}
 
 }  // namespace romp

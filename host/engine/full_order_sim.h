@@ -14,6 +14,7 @@
 #include "host/engine/step_inputs.h"
 #include "host/engine/tracer_set.h"
 #include "kernels/core/device_buffer.h"
+#include "kernels/core/event_timeline.h"
 #include "kernels/core/error.h"
 #include "kernels/core/exec.h"
 #include "kernels/mpm/particle_domains.h"
@@ -94,7 +95,8 @@ class FullOrderSim {
   std::optional<TracerSet> tracers_;
   double time_ = 0.0;
   std::int64_t steps_ = 0;
-  std::vector<std::pair<std::string, double>> stage_seconds_;
+  std::vector<std::string> stages_;     // the stage table's names, in pipeline order
+  mutable EventTimeline stage_timeline_;  // read when the table is asked for
   std::vector<bool> released_;  // per Dirichlet group
   double last_enriched_share_ = 0.0;
   EnrichmentStatistics enrichment_;

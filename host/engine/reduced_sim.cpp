@@ -72,12 +72,6 @@ void gather(const Exec& exec, const DeviceBuffer<T>& source, Index source_count,
   gather_planes(exec, source.span(), source_count, components, index, destination.span());
 }
 
-double norm(const std::vector<float>& v) {
-  double sum = 0.0;
-  for (const float value : v) sum += double(value) * double(value);
-  return std::sqrt(sum);
-}
-
 Vec3<float> planes_at(const std::vector<float>& planes, Index n, Index i) {
   return Vec3<float>(planes[i], planes[n + i], planes[2 * n + i]);
 }
@@ -142,7 +136,8 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
       map_(std::move(map)),
       latent_(map_.latent),
       points_(reference.count()),
-      random_(options.seed) {
+      random_(options.seed),
+      stage_timeline_(exec) {
   // Particle domains are a full-order discretisation (they keep the snapshots a model is trained on
   // free of numerical fracture); the reduced model's material points are the particles themselves,
   // so `reference.domain` and `reference.domains` are not used here.
@@ -191,6 +186,13 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   latent_device_ = DeviceBuffer<float>(backend, 2 * Index(latent_) + 1);
   upload(backend, xhat_device(), Span<const float>(xhat_.data(), latent_), exec_.stream);
   speed_slot_ = DeviceBuffer<float>(backend, 1);
+  if (options_.projection == RomProjection::PositionVelocity) {
+    std::vector<float> history(xhat_);
+    history.insert(history.end(), xhat_.begin(), xhat_.end());
+    xhat_history_ = DeviceBuffer<float>::from_host(backend, history, exec_.stream);
+    projection_state_ = DeviceBuffer<rom::GaussNewtonState>(backend, 1);
+    projection_state_.fill_zero(exec_.stream);
+  }
 
   if (options_.quadrature == RomQuadrature::Lagrangian) {
     search_neighbours_ = wants_neighbour_search(options_, reference, config_.dx, Index(group_members_.size()));
@@ -218,8 +220,7 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   max_sample_speed_ *= std::sqrt(3.0f);  // a bound on |v| from its largest component
   check_latent("the initial projection");
 
-  stage_seconds_ = {{"samples", 0.0},     {"kinematics", 0.0}, {"grid_build", 0.0}, {"p2g", 0.0},
-                    {"grid_update", 0.0}, {"g2p", 0.0},        {"projection", 0.0}};
+  stages_ = {"samples", "kinematics", "grid_build", "p2g", "grid_update", "g2p", "projection"};
 }
 
 void ReducedSim::build_occupancy(const mpm::ParticleInit& reference) {
@@ -434,7 +435,7 @@ void ReducedSim::substep(float dt) {
   const Index n = points_;
   const int r = latent_;
   const mpm::StepParams step = inputs_.at(time_, dt);
-  StageClock timed(exec_, stage_seconds_);
+  StageClock timed(stage_timeline_);
 
   Index m = 0;
   timed([&] {
@@ -494,67 +495,35 @@ void ReducedSim::substep(float dt) {
   });
 
   // Alg. 6 / 7: v̂_{n+1} from the trial velocities on the tangent space at x̂_n; then x̂_{n+1}, solved
-  // where the system is, so that only the new state comes back (one round trip, not three).
+  // where the system is (Gauss–Newton too), so that only the new state comes back: one round trip.
   timed([&] {
     rom::normal_equations(exec_, r, sample_dg_dxhat_.span(), Vec3Planes<const float>(samples_.v.data(), m), {},
                           system_.span());
     rom::advance_latent(exec_, r, system_.span(), dt, latent_device_.span());
+    if (options_.projection == RomProjection::PositionVelocity) {
+      // From 2 x̂_n − x̂_{n−1}; the first step has no x̂_{n−1}: from x̂_n + Δt v̂_{n+1}.
+      const rom::PositionProjection projection{Vec3Planes<const float>(samples_.X.data(), m),
+                                               Vec3Planes<const float>(samples_.x.data(), m),
+                                               Vec3Planes<float>(model_x_.data(), m),
+                                               sample_dg_dxhat_.span(),
+                                               system_.span(),
+                                               xhat_history_.span(),
+                                               latent_device_.span(),
+                                               projection_state_.span()};
+      rom::project_positions(exec_, map_view(),
+                             {options_.gauss_newton_iterations, options_.gauss_newton_tolerance}, has_previous_,
+                             projection);
+    }
     const std::vector<float> latent = latent_device_.to_host(exec_.stream);
     if (latent[2 * r] != rom::kLatentSolved) throw singular_projection();
-    std::vector<float> xhat(latent.begin(), latent.begin() + r), vhat(latent.begin() + r, latent.begin() + 2 * r);
-    if (options_.projection == RomProjection::PositionVelocity) {
-      std::vector<float> guess = xhat;  // the first step has no x̂_{n−1}: x̂_n + Δt v̂_{n+1}
-      if (has_previous_)
-        for (int j = 0; j < r; ++j) guess[j] = 2.0f * xhat_[j] - xhat_previous_[j];
-      xhat = project_positions(guess, m);
-      // Gauss–Newton left its last trial on the device.
-      upload(exec_.backend, xhat_device(), Span<const float>(xhat.data(), r), exec_.stream);
-    }
-    xhat_previous_ = xhat_;
+    xhat_.assign(latent.begin(), latent.begin() + r);
+    vhat_.assign(latent.begin() + r, latent.begin() + 2 * r);
     has_previous_ = true;
-    xhat_ = std::move(xhat);
-    vhat_ = std::move(vhat);
   });
   check_latent("the projection");
   max_sample_speed_ = mpm::max_particle_speed(exec_, samples, speed_slot_.span());
   time_ += dt;
   ++steps_;
-}
-
-std::vector<float> ReducedSim::project_positions(const std::vector<float>& guess, Index m) {
-  const int r = latent_;
-  const Vec3Planes<const float> X(samples_.X.data(), m), trial(samples_.x.data(), m), model(model_x_.data(), m);
-  // Σ ‖x_trial − g(X; y)‖² and its Gauss–Newton system at y.
-  auto linearise = [&](const std::vector<float>& y) {
-    upload(exec_.backend, xhat_device(), Span<const float>(y.data(), r), exec_.stream);
-    evaluate_map(X, {Vec3Planes<float>(model_x_.data(), m), {}, sample_dg_dxhat_.span()});
-    return solve_projection(sample_dg_dxhat_.span(), trial, model);
-  };
-  // The line search halves the step at most this often before deciding no descent is left.
-  constexpr int kHalvings = 10;
-  std::vector<float> y = guess;
-  auto [delta, cost] = linearise(y);
-  for (int iteration = 0; iteration < options_.gauss_newton_iterations; ++iteration) {
-    double alpha = 1.0;
-    bool descended = false;
-    std::vector<float> trial_y(static_cast<std::size_t>(r));
-    std::pair<std::vector<double>, double> next;
-    for (int halving = 0; halving <= kHalvings && !descended; ++halving, alpha *= 0.5) {
-      for (int j = 0; j < r; ++j) trial_y[j] = float(double(y[j]) + alpha * delta[j]);
-      next = linearise(trial_y);
-      descended = next.second <= cost;
-    }
-    // No descent along the Gauss–Newton direction: y is a minimum to float precision.
-    if (!descended) return y;
-    double step = 0.0;
-    for (int j = 0; j < r; ++j) step += (double(trial_y[j]) - y[j]) * (double(trial_y[j]) - y[j]);
-    y = trial_y;
-    delta = std::move(next.first);
-    cost = next.second;
-    if (std::sqrt(step) <= options_.gauss_newton_tolerance * (1.0 + norm(y))) return y;
-  }
-  ++unconverged_projections_;
-  return y;
 }
 
 void ReducedSim::check_latent(const char* stage) const {
@@ -588,6 +557,18 @@ void ReducedSim::check_inside_domain(const DeviceBuffer<float>& x, Index count, 
                   low[0], high[0], low[1], high[1], low[2], high[2], fmt::join(xhat_, ", ")),
       steps_, mpm::Stage::P2G, point);
 }
+
+std::vector<std::pair<std::string, double>> ReducedSim::stage_seconds() const {
+  return stage_table(stages_, stage_timeline_);
+}
+
+rom::GaussNewtonState ReducedSim::gauss_newton_state() const {
+  return projection_state_.empty() ? rom::GaussNewtonState{} : projection_state_.to_host(exec_.stream)[0];
+}
+
+std::int64_t ReducedSim::unconverged_projections() const { return gauss_newton_state().unconverged_total; }
+
+std::int64_t ReducedSim::gauss_newton_linearisations() const { return gauss_newton_state().linearisations_total; }
 
 rom::QuadratureTally ReducedSim::quadrature_tally() const {
   return tally_.empty() ? rom::QuadratureTally{} : tally_.to_host(exec_.stream)[0];

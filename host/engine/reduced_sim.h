@@ -24,6 +24,7 @@
 #include "host/geometry/random.h"
 #include "kernels/core/device_buffer.h"
 #include "kernels/core/error.h"
+#include "kernels/core/event_timeline.h"
 #include "kernels/core/exec.h"
 #include "kernels/core/index_select.h"
 #include "kernels/math/vec3.h"
@@ -31,6 +32,7 @@
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/rom/deformation_map_eval.h"
 #include "kernels/rom/eulerian_quadrature.h"
+#include "kernels/rom/position_projection.h"
 #include "kernels/rom/sample_neighbourhood.h"
 
 namespace romp {
@@ -101,8 +103,11 @@ class ReducedSim {
   const std::vector<float>& vhat() const { return vhat_; }
   double time() const { return time_; }
   std::int64_t steps() const { return steps_; }
-  // Substeps whose Gauss–Newton projection stopped at its iteration limit before converging.
-  std::int64_t unconverged_projections() const { return unconverged_projections_; }
+  // Substeps whose Gauss–Newton projection stopped at its iteration limit before converging (the device's
+  // count: a download).
+  std::int64_t unconverged_projections() const;
+  // Gauss–Newton linearisations so far (g and ∂g/∂x̂ at the samples, each), likewise.
+  std::int64_t gauss_newton_linearisations() const;
   // Eulerian quadrature points so far: used, dropped outside the body, dropped unconverged (or inverted).
   // These read the device's running totals (a download each).
   std::int64_t quadrature_points_used() const { return quadrature_tally().points[rom::kQuadratureUsed]; }
@@ -129,7 +134,7 @@ class ReducedSim {
   Index last_quadrature_count() const { return quadrature_.count; }
   // Lagrangian quadrature points summed over the substeps so far.
   std::int64_t lagrangian_quadrature_points() const { return lagrangian_points_; }
-  std::vector<std::pair<std::string, double>> stage_seconds() const { return stage_seconds_; }
+  std::vector<std::pair<std::string, double>> stage_seconds() const;
 
  private:
   std::vector<std::int32_t> choose_samples();
@@ -149,7 +154,6 @@ class ReducedSim {
                                                           Vec3Planes<const float> reference);
   // The error of a projection whose normal equations have no solution.
   Error singular_projection() const;
-  std::vector<float> project_positions(const std::vector<float>& guess, Index samples);
   // Throws NonFiniteError when x̂ or v̂ is not finite after `stage`.
   void check_latent(const char* stage) const;
   // Throws NonFiniteError naming the material point when one of the `count` positions in `x` (3 planes: the
@@ -157,6 +161,7 @@ class ReducedSim {
   // lies outside the grid's interior: x̂ has gone where the map no longer describes the body.
   void check_inside_domain(const DeviceBuffer<float>& x, Index count, Span<const std::int32_t> index);
   rom::QuadratureTally quadrature_tally() const;
+  rom::GaussNewtonState gauss_newton_state() const;  // zero without the position projection
 
   Exec exec_;
   FullOrderConfig config_;
@@ -210,6 +215,9 @@ class ReducedSim {
   // The samples: reference and current state, ∂g/∂x̂ there, and g during Gauss–Newton.
   Quadrature samples_;
   DeviceBuffer<float> sample_dg_dxhat_, model_x_;
+  // Position–velocity: [x̂_{n−1} | x̂_n] and the Gauss–Newton state on the device (rom::project_positions).
+  DeviceBuffer<float> xhat_history_;
+  DeviceBuffer<rom::GaussNewtonState> projection_state_;
   DeviceBuffer<std::int32_t> sample_index_;
   // Eulerian: the occupancy of the reference configuration and ρ₀ per material.
   DeviceBuffer<std::int32_t> occupancy_cells_;
@@ -220,15 +228,15 @@ class ReducedSim {
   DeviceBuffer<float> speed_slot_;  // mpm::max_particle_speed's result
   DeviceBuffer<double> system_;
 
-  std::vector<float> xhat_, vhat_, xhat_previous_;
+  std::vector<float> xhat_, vhat_;
   bool has_previous_ = false;
   geometry::Random random_;
   float max_sample_speed_ = 0.0f;
   double time_ = 0.0;
   std::int64_t steps_ = 0;
-  std::int64_t unconverged_projections_ = 0;
   std::int64_t lagrangian_points_ = 0;
-  std::vector<std::pair<std::string, double>> stage_seconds_;
+  std::vector<std::string> stages_;     // the stage table's names, in pipeline order
+  mutable EventTimeline stage_timeline_;  // read when the table is asked for
 };
 
 }  // namespace romp

@@ -1,5 +1,6 @@
-// StageClock: times the stages of one substep in pipeline order on the simulation's backend (CUDA
-// events on a GPU, a steady clock on the CPU), adding each stage's seconds to its entry of the table.
+// StageClock: times the stages of one substep in pipeline order on the simulation's timeline (CUDA
+// events on a GPU, a steady clock on the CPU; kernels/core/event_timeline.h), each stage's time going
+// to its interval: the index of its entry in the simulation's stage table. Nothing waits for the device.
 #pragma once
 
 #include <cstddef>
@@ -7,28 +8,33 @@
 #include <utility>
 #include <vector>
 
-#include "kernels/core/device_timer.h"
-#include "kernels/core/exec.h"
+#include "kernels/core/event_timeline.h"
 
 namespace romp {
 
 class StageClock {
  public:
-  // `seconds` lists the stages in the order they will run; it must outlive the clock.
-  StageClock(const Exec& exec, std::vector<std::pair<std::string, double>>& seconds) : timer_(exec), seconds_(seconds) {}
+  explicit StageClock(EventTimeline& timeline) : timeline_(timeline) { timeline_.open(); }
 
-  // Runs the next stage and adds its time to that stage's entry.
+  // Runs the next stage and marks its end.
   template <class Stage>
   void operator()(Stage&& stage) {
-    timer_.start();
     stage();
-    seconds_[next_++].second += timer_.stop();
+    timeline_.close(next_++);
   }
 
  private:
-  DeviceTimer timer_;
-  std::vector<std::pair<std::string, double>>& seconds_;
+  EventTimeline& timeline_;
   std::size_t next_ = 0;
 };
+
+// The stage table: each stage's name with its seconds so far from `timeline` (stages not yet run: 0).
+inline std::vector<std::pair<std::string, double>> stage_table(const std::vector<std::string>& stages,
+                                                               EventTimeline& timeline) {
+  const std::vector<double>& seconds = timeline.seconds();
+  std::vector<std::pair<std::string, double>> table;
+  for (std::size_t i = 0; i < stages.size(); ++i) table.emplace_back(stages[i], i < seconds.size() ? seconds[i] : 0.0);
+  return table;
+}
 
 }  // namespace romp

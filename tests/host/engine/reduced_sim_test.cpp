@@ -109,7 +109,8 @@ struct NeighbourRun {
   std::int64_t newton_steps = 0;
 };
 // 3 samples (seeded) in a 32,768-point body under a map that deforms it.
-ReducedSim deformed_body(RomQuadrature quadrature, NeighbourSearch search) {
+ReducedSim deformed_body(RomQuadrature quadrature, NeighbourSearch search,
+                         RomProjection projection = RomProjection::Velocity) {
   const mpm::ParticleInit body = test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2,
                                                    1000.0f);
   ReducedOptions options;
@@ -117,6 +118,7 @@ ReducedSim deformed_body(RomQuadrature quadrature, NeighbourSearch search) {
   options.samples = 3;
   options.seed = 5;
   options.neighbour_search = search;
+  options.projection = projection;
   return ReducedSim(test::exec(), falling_config(), body, test::small_nonlinear_map(0.25f, 0.5f, 0.003f),
                     {0.0f, 0.0f, 0.0f}, options);
 }
@@ -170,8 +172,9 @@ struct SubstepTraffic {
   int allocating_substeps = 0;
   std::int64_t largest_uploads = 0, largest_downloads = 0;
 };
-SubstepTraffic substep_traffic(RomQuadrature quadrature, NeighbourSearch search) {
-  ReducedSim sim = deformed_body(quadrature, search);
+SubstepTraffic substep_traffic(RomQuadrature quadrature, NeighbourSearch search,
+                               RomProjection projection = RomProjection::Velocity) {
+  ReducedSim sim = deformed_body(quadrature, search, projection);
   for (int s = 0; s < 3; ++s) sim.substep(kDt);
   SubstepTraffic traffic;
   for (int s = 0; s < 12; ++s) {
@@ -211,6 +214,14 @@ TEST(ReducedSim, SubstepsReuseTheirBuffersAndMakeFewRoundTrips) {
   // samples, the points kept in them, the points used): built, compacted and tallied on the device.
   EXPECT_EQ(eulerian.largest_uploads, 1);
   EXPECT_EQ(eulerian.largest_downloads, 5 + 3 * per_compaction);
+
+  // Gauss–Newton runs where the samples are (rom::project_positions): the position–velocity projection
+  // costs the host what the velocity projection does, whatever its iterations.
+  const SubstepTraffic position = substep_traffic(RomQuadrature::Eulerian, NeighbourSearch::Auto,
+                                                  RomProjection::PositionVelocity);
+  EXPECT_LE(position.allocating_substeps, 2);
+  EXPECT_EQ(position.largest_uploads, 1);
+  EXPECT_EQ(position.largest_downloads, 5 + 3 * per_compaction);
 }
 
 // Auto searches only where the samples reach under half the body: never with every point sampled, nor
