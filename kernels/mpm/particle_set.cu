@@ -75,6 +75,16 @@ void permute(const Exec& exec, DeviceBuffer<T>& planes, int components, Span<con
   std::swap(planes, spare);
 }
 
+// Every real and integer plane of particle i gathered through the sort's order, in one pass.
+struct GatherParticle {
+  GatherPlanes<float> reals;
+  GatherPlanes<std::int32_t> integers;
+  ROMP_HD void operator()(Index i) const {
+    reals(i);
+    integers(i);
+  }
+};
+
 #if defined(__CUDACC__)
 // CUB's temporary storage of `bytes`, grown when short.
 void* temporary_storage(BlockSortScratch& scratch, Backend backend, std::size_t bytes) {
@@ -130,7 +140,7 @@ Index run_starts(const Exec& exec, BlockSortScratch& scratch, DeviceBuffer<std::
 }
 
 // Sorts scratch.order by scratch.keys, and on CUDA the keys with it (the CPU sort orders `order` alone).
-void sort_pairs(const Exec& exec, BlockSortScratch& scratch, const DeviceBuffer<std::int32_t>& id) {
+void sort_pairs(const Exec& exec, BlockSortScratch& scratch, Span<const std::int32_t> id) {
   DeviceBuffer<std::uint64_t>& keys = scratch.keys;
   DeviceBuffer<std::int32_t>& order = scratch.order;
   const Index n = keys.size();
@@ -176,98 +186,96 @@ ParticleSet::ParticleSet(Backend backend, const ParticleInit& init) : backend_(b
   ROMP_CHECK(Index(init.volume0.size()) == n && Index(init.material.size()) == n &&
                  Index(init.dirichlet_group.size()) == n,
              "every per-particle array needs " + std::to_string(n) + " entries");
-  x_ = DeviceBuffer<float>::from_host(backend, init.x);
-  v_ = DeviceBuffer<float>::from_host(backend, init.v);
-  if (init.C.empty()) {
-    C_ = DeviceBuffer<float>(backend, 9 * n);
-    C_.fill_zero();
-  } else {
-    C_ = DeviceBuffer<float>::from_host(backend, init.C);
-  }
-  F_ = init.F.empty() ? DeviceBuffer<float>(backend, 9 * n) : DeviceBuffer<float>::from_host(backend, init.F);
-  mass_ = DeviceBuffer<float>::from_host(backend, init.mass);
-  volume0_ = DeviceBuffer<float>::from_host(backend, init.volume0);
-  material_ = DeviceBuffer<std::int32_t>::from_host(backend, init.material);
-  dirichlet_group_ = DeviceBuffer<std::int32_t>::from_host(backend, init.dirichlet_group);
   ROMP_CHECK(init.domain.empty() || Index(init.domain.size()) == n,
              "the per-particle domain index needs " + std::to_string(n) + " entries (or none)");
-  domain_ = DeviceBuffer<std::int32_t>::from_host(backend, init.domain);
-  id_ = DeviceBuffer<std::int32_t>(backend, n);
+  reals_ = DeviceBuffer<float>(backend, kRealPlanes * n);
+  reals_.fill_zero();  // C = 0 unless given
+  auto upload_planes = [&](const std::vector<float>& host, int first, int planes) {
+    upload(backend, reals(first, planes), Span<const float>(host.data(), Index(host.size())));
+  };
+  upload_planes(init.x, kX, 3);
+  upload_planes(init.v, kV, 3);
+  if (!init.C.empty()) upload_planes(init.C, kC, 9);
+  if (!init.F.empty()) upload_planes(init.F, kF, 9);
+  upload_planes(init.mass, kMass, 1);
+  upload_planes(init.volume0, kVolume0, 1);
+  integers_ = DeviceBuffer<std::int32_t>(backend, (init.domain.empty() ? kDomain : kDomain + 1) * n);
+  auto upload_integers = [&](const std::vector<std::int32_t>& host, int plane) {
+    upload(backend, integers(plane), Span<const std::int32_t>(host.data(), Index(host.size())));
+  };
+  upload_integers(init.material, kMaterial);
+  upload_integers(init.dirichlet_group, kDirichletGroup);
+  if (!init.domain.empty()) upload_integers(init.domain, kDomain);
   const Exec exec = backend == Backend::Cuda ? Exec::cuda() : Exec::cpu();
-  if (init.F.empty()) for_each(exec, n, SetIdentity{Mat3Planes<float>(F_.data(), n)});
-  for_each(exec, n, SetIota{id_.span()});
+  if (init.F.empty()) for_each(exec, n, SetIdentity{Mat3Planes<float>(reals(kF, 9).data(), n)});
+  for_each(exec, n, SetIota{integers(kId)});
   synchronize(exec);
 }
 
 ParticleView ParticleSet::view() {
   const Index n = count_;
   return ParticleView{n,
-                      Vec3Planes<float>(x_.data(), n),
-                      Vec3Planes<float>(v_.data(), n),
-                      Mat3Planes<float>(C_.data(), n),
-                      Mat3Planes<float>(F_.data(), n),
-                      mass_.span(),
-                      volume0_.span(),
-                      material_.span(),
-                      dirichlet_group_.span(),
-                      id_.span(),
-                      domain_.span()};
+                      Vec3Planes<float>(reals(kX, 3).data(), n),
+                      Vec3Planes<float>(reals(kV, 3).data(), n),
+                      Mat3Planes<float>(reals(kC, 9).data(), n),
+                      Mat3Planes<float>(reals(kF, 9).data(), n),
+                      reals(kMass, 1),
+                      reals(kVolume0, 1),
+                      integers(kMaterial),
+                      integers(kDirichletGroup),
+                      integers(kId),
+                      has_domains() ? integers(kDomain) : Span<std::int32_t>()};
 }
 
-std::size_t ParticleSet::bytes() const {
-  return x_.bytes() + v_.bytes() + C_.bytes() + F_.bytes() + mass_.bytes() + volume0_.bytes() + material_.bytes() +
-         dirichlet_group_.bytes() + id_.bytes() + domain_.bytes();
-}
+std::size_t ParticleSet::bytes() const { return reals_.bytes() + integers_.bytes(); }
 
 void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
   const Index n = count_;
   BlockSortScratch& scratch = sort_scratch_;
   DeviceBuffer<std::uint64_t>& keys = sized(scratch.keys, backend_, n);
   DeviceBuffer<std::int32_t>& order = sized(scratch.order, backend_, n);
-  for_each(exec, n, BlockKeyOfParticle{Vec3Planes<const float>(x_.data(), n), keys.span(), order.span(), inverse_dx});
-  sort_pairs(exec, scratch, id_);
+  for_each(exec, n, BlockKeyOfParticle{Vec3Planes<const float>(reals(kX, 3).data(), n), keys.span(), order.span(),
+                                       inverse_dx});
+  sort_pairs(exec, scratch, integers(kId));
   if (!exec.is_cuda()) permute(exec, keys, 1, order.span(), scratch.sorted_keys);  // the CPU sort orders `order` alone
   if (block_starts_.size() < n + 1) block_starts_ = DeviceBuffer<std::int32_t>(backend_, n + 1);
   block_count_ = run_starts(exec, scratch, block_starts_);
   const Span<const std::int32_t> by_block = order.span();
-  permute(exec, x_, 3, by_block, scratch.planes3);
-  permute(exec, v_, 3, by_block, scratch.planes3);
-  permute(exec, C_, 9, by_block, scratch.planes9);
-  permute(exec, F_, 9, by_block, scratch.planes9);
-  permute(exec, mass_, 1, by_block, scratch.planes1);
-  permute(exec, volume0_, 1, by_block, scratch.planes1);
-  permute(exec, material_, 1, by_block, scratch.ints);
-  permute(exec, dirichlet_group_, 1, by_block, scratch.ints);
-  permute(exec, id_, 1, by_block, scratch.ints);
-  if (domain_.size() > 0) permute(exec, domain_, 1, by_block, scratch.ints);
+  DeviceBuffer<float>& reals = sized(scratch.reals, backend_, reals_.size());
+  DeviceBuffer<std::int32_t>& integers = sized(scratch.integers, backend_, integers_.size());
+  for_each(exec, n,
+           GatherParticle{GatherPlanes<float>{reals_.span(), n, reals.span(), by_block, kRealPlanes},
+                          GatherPlanes<std::int32_t>{integers_.span(), n, integers.span(), by_block,
+                                                     int(integers_.size() / n)}});
+  std::swap(reals_, reals);
+  std::swap(integers_, integers);
 }
 
 void ParticleSet::release_dirichlet_group(const Exec& exec, std::int32_t group) {
-  for_each(exec, count_, ReplaceValue<std::int32_t>{dirichlet_group_.span(), group, kNoDirichletGroup});
+  for_each(exec, count_, ReplaceValue<std::int32_t>{integers(kDirichletGroup), group, kNoDirichletGroup});
 }
 
 template <class T>
-std::vector<T> ParticleSet::planes_in_initial_order(const Exec& exec, const DeviceBuffer<T>& planes,
-                                                    int components) const {
+std::vector<T> ParticleSet::planes_in_initial_order(const Exec& exec, Span<const T> planes, int components) const {
   DeviceBuffer<T> ordered(backend_, planes.size());
-  for_each(exec, count_, ScatterPlanes<T>{planes.span(), ordered.span(), id_.span(), components});
+  for_each(exec, count_, ScatterPlanes<T>{planes, ordered.span(), integers(kId), components});
   return ordered.to_host(exec.stream);
 }
 
 std::vector<float> ParticleSet::positions_in_initial_order(const Exec& exec) const {
-  return planes_in_initial_order(exec, x_, 3);
+  return planes_in_initial_order<float>(exec, reals(kX, 3), 3);
 }
 std::vector<float> ParticleSet::velocities_in_initial_order(const Exec& exec) const {
-  return planes_in_initial_order(exec, v_, 3);
+  return planes_in_initial_order<float>(exec, reals(kV, 3), 3);
 }
 std::vector<float> ParticleSet::deformation_gradients_in_initial_order(const Exec& exec) const {
-  return planes_in_initial_order(exec, F_, 9);
+  return planes_in_initial_order<float>(exec, reals(kF, 9), 9);
 }
 std::vector<float> ParticleSet::affine_velocities_in_initial_order(const Exec& exec) const {
-  return planes_in_initial_order(exec, C_, 9);
+  return planes_in_initial_order<float>(exec, reals(kC, 9), 9);
 }
 std::vector<std::int32_t> ParticleSet::domains_in_initial_order(const Exec& exec) const {
-  return domain_.size() > 0 ? planes_in_initial_order(exec, domain_, 1) : std::vector<std::int32_t>{};
+  return has_domains() ? planes_in_initial_order<std::int32_t>(exec, integers(kDomain), 1) : std::vector<std::int32_t>{};
 }
 
 }  // namespace romp::mpm

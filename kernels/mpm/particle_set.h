@@ -45,14 +45,14 @@ struct ParticleInit {
 };
 
 // ParticleSet::sort_by_block's working storage, kept between sorts so that a sort allocates nothing
-// after the first (on CUDA an allocation synchronises the device). Each particle array is permuted into
-// the spare of its shape (1, 3 or 9 planes of floats, or integers), and the two swap.
+// after the first (on CUDA an allocation synchronises the device). The particle arrays are gathered into
+// spares of their two allocations in one launch, and the two swap.
 struct BlockSortScratch {
   DeviceBuffer<std::uint64_t> keys, sorted_keys, unique_keys;
   DeviceBuffer<std::int32_t> order, sorted_order, run_lengths, run_count;
   DeviceBuffer<unsigned char> temporary;  // CUB's
-  DeviceBuffer<float> planes1, planes3, planes9;
-  DeviceBuffer<std::int32_t> ints;
+  DeviceBuffer<float> reals;
+  DeviceBuffer<std::int32_t> integers;
 };
 
 class ParticleSet {
@@ -88,12 +88,28 @@ class ParticleSet {
 
  private:
   template <class T>
-  std::vector<T> planes_in_initial_order(const Exec& exec, const DeviceBuffer<T>& planes, int components) const;
+  std::vector<T> planes_in_initial_order(const Exec& exec, Span<const T> planes, int components) const;
+
+  // The particle arrays as planes of count_ in two allocations, so that one launch permutes them all
+  // (the sort's gathers were ten launches: the step's largest share of launches in small scenes).
+  // Real planes: x (3), v (3), C (9), F (9), mass, volume0; integer planes: material, Dirichlet group,
+  // id, and the domain where a particle has one.
+  enum RealPlane : int { kX = 0, kV = 3, kC = 6, kF = 15, kMass = 24, kVolume0 = 25, kRealPlanes = 26 };
+  enum IntegerPlane : int { kMaterial = 0, kDirichletGroup = 1, kId = 2, kDomain = 3 };
+  Span<float> reals(int first, int planes) { return reals_.span().subspan(Index(first) * count_, Index(planes) * count_); }
+  Span<const float> reals(int first, int planes) const {
+    return reals_.span().subspan(Index(first) * count_, Index(planes) * count_);
+  }
+  Span<std::int32_t> integers(int plane) { return integers_.span().subspan(Index(plane) * count_, count_); }
+  Span<const std::int32_t> integers(int plane) const {
+    return integers_.span().subspan(Index(plane) * count_, count_);
+  }
+  bool has_domains() const { return integers_.size() > Index(kDomain) * count_; }
 
   Backend backend_;
   Index count_;
-  DeviceBuffer<float> x_, v_, C_, F_, mass_, volume0_;
-  DeviceBuffer<std::int32_t> material_, dirichlet_group_, id_, domain_;
+  DeviceBuffer<float> reals_;
+  DeviceBuffer<std::int32_t> integers_;
   DeviceBuffer<std::int32_t> block_starts_;
   Index block_count_ = 0;
   BlockSortScratch sort_scratch_;
