@@ -112,8 +112,12 @@ void run_rom_cost_suite(Context& context) {
         if (c.projection == RomProjection::PositionVelocity) {
           // Each linearisation evaluates g and ∂g/∂x̂ at the samples, inside one block on CUDA.
           const double per_substep = double(sim.gauss_newton_linearisations()) / double(sim.steps());
+          const double unconverged = double(sim.unconverged_projections()) / double(sim.steps());
           context.record(key + ".gauss_newton_linearisations_per_substep", per_substep);
-          evaluations += fmt::format("; {:.2f} Gauss–Newton linearisations per substep", per_substep);
+          context.record(key + ".gauss_newton_unconverged_share", unconverged);
+          evaluations += fmt::format("; {:.2f} Gauss–Newton linearisations per substep, {:.0f} % of the projections "
+                                     "unconverged",
+                                     per_substep, 100.0 * unconverged);
         }
         std::string split;
         for (const auto& [stage, seconds] : sim.stage_seconds())

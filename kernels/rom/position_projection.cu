@@ -29,6 +29,13 @@ struct Decisions {
     GaussNewtonState& s = state();
     const int r = step.latent;
     for (int j = 0; j < r; ++j) s.trial[j] = extrapolate ? 2.0f * p.history[r + j] - p.history[j] : p.latent[j];
+    // One thread over the targets: m ≤ kOneBlockSamples where it matters.
+    double norm2 = 0.0;
+    for (Index i = 0; i < p.target.count(); ++i) {
+      const Vec3<float> t = p.target.load(i);
+      norm2 += double(t[0]) * t[0] + double(t[1]) * t[1] + double(t[2]) * t[2];
+    }
+    s.target_norm2 = norm2;
     step.start(s);
   }
   // Solves the normal equations at trial (in place) and takes them.
@@ -37,7 +44,15 @@ struct Decisions {
     double* const A = p.system.data();
     double* const c = A + r * r;
     const double cost = A[r * r + r];
-    return step.take(state(), cholesky_solve(r, A, c) ? c : nullptr, cost);
+    if (!cholesky_solve(r, A, c)) return step.take(state(), nullptr, cost, 0.0);
+    // δᵀ A δ = ‖Lᵀ δ‖², with L in A's lower triangle.
+    double predicted_decrease = 0.0;
+    for (int i = 0; i < r; ++i) {
+      double row = 0.0;
+      for (int k = i; k < r; ++k) row += A[k * r + i] * c[k];
+      predicted_decrease += row * row;
+    }
+    return step.take(state(), c, cost, predicted_decrease);
   }
   ROMP_HD void finish() const { step.finish(state(), p.latent.data(), p.history.data()); }
 };
