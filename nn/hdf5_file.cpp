@@ -103,9 +103,13 @@ std::uint64_t point_count(hid_t space) {
   }
 }
 
-Handle variable_string_type() {
+// Strings are written fixed-length, padded with NULs: they then live in the attribute's object header,
+// which the files' format keeps under a checksum (file_creation_access). Variable-length strings live in
+// the global heap, which has none: a damaged byte there crashed libhdf5 inside H5Aread (H5HG_read).
+Handle fixed_string_type(std::size_t longest) {
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-  H5Tset_size(type.id(), H5T_VARIABLE);
+  H5Tset_size(type.id(), std::max<std::size_t>(longest, 1));
+  H5Tset_strpad(type.id(), H5T_STR_NULLPAD);
   H5Tset_cset(type.id(), H5T_CSET_UTF8);
   return type;
 }
@@ -119,6 +123,37 @@ Handle link_creation_with_parents() {
 Handle file_access() {
   Handle list(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   H5Pset_file_locking(list.id(), false, true);
+  return list;
+}
+
+// New files in the HDF5 1.8 format: its superblock, object headers and attribute storage carry checksums,
+// so damaged metadata there is an error where the earliest format (the library's default) read it as it
+// came. Not the 1.10 format, whose chunk indexes are checksummed too: its superblock marks a file open
+// for writing, and a run killed mid-write would leave a partial output that no longer opens. Chunk
+// indexes stay unchecked B-trees. HDF5 1.8 and later read it (h5py, ParaView).
+Handle file_creation_access() {
+  Handle list = file_access();
+  H5Pset_libver_bounds(list.id(), H5F_LIBVER_V18, H5F_LIBVER_V18);
+  return list;
+}
+
+// Datasets are stored in chunks of at most this many bytes, each with a Fletcher-32 checksum that every
+// read verifies: damaged data is an error, not a result (a resumed run used to carry it on).
+constexpr std::uint64_t kChunkBytes = std::uint64_t(64) << 20;
+
+Handle checksummed_dataset_creation(const std::vector<hsize_t>& dims, std::size_t element_bytes) {
+  Handle list(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  std::vector<hsize_t> chunk(dims);
+  std::uint64_t bytes = element_bytes;
+  for (const hsize_t extent : chunk) bytes *= extent;
+  for (std::size_t axis = 0; axis < chunk.size() && bytes > kChunkBytes; ++axis) {
+    while (chunk[axis] > 1 && bytes > kChunkBytes) {
+      bytes = bytes / chunk[axis] * ((chunk[axis] + 1) / 2);
+      chunk[axis] = (chunk[axis] + 1) / 2;
+    }
+  }
+  H5Pset_chunk(list.id(), int(chunk.size()), chunk.data());
+  H5Pset_fletcher32(list.id());
   return list;
 }
 
@@ -139,9 +174,14 @@ std::optional<std::vector<std::string>> read_strings(hid_t attribute, hid_t type
   const std::size_t size = H5Tget_size(type);
   std::string buffer(size * count, '\0');
   if (count > 0 && H5Aread(attribute, type, buffer.data()) < 0) return std::nullopt;
+  // The padding the type declares: NULs (romp's), or spaces (Fortran's).
+  const std::string padding = H5Tget_strpad(type) == H5T_STR_SPACEPAD ? std::string(" ") : std::string(1, '\0');
   for (std::uint64_t i = 0; i < count; ++i) {
     std::string value = buffer.substr(i * size, size);
-    value.erase(value.find_last_not_of(std::string("\0 ", 2)) + 1);
+    const std::size_t end = value.find_last_not_of(padding);
+    value.erase(end == std::string::npos ? 0 : end + 1);
+    // A NUL-terminated string ends at its first NUL.
+    value.erase(std::min(value.size(), value.find('\0')));
     values.push_back(std::move(value));
   }
   return values;
@@ -177,6 +217,10 @@ std::string Group::absolute(const std::string& path) const {
 }
 
 void Group::fail(const std::string& what, const std::string& path, const std::string& problem) const {
+  throw UnusableFileError(label() + ": " + what + " " + absolute(path) + ": " + problem);
+}
+
+void Group::fail_to_write(const std::string& what, const std::string& path, const std::string& problem) const {
   throw Error(label() + ": " + what + " " + absolute(path) + ": " + problem);
 }
 
@@ -228,10 +272,10 @@ Group Group::open_group(const std::string& path) const {
 
 Group Group::create_group(const std::string& path) {
   LibraryCall call;
-  if (exists(path)) fail("group", path, "already exists");
+  if (exists(path)) fail_to_write("group", path, "already exists");
   Handle links = link_creation_with_parents();
   Handle group(H5Gcreate2(handle_.id(), path.c_str(), links.id(), H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-  if (!group.valid()) fail("group", path, "cannot create: " + library_reason());
+  if (!group.valid()) fail_to_write("group", path, "cannot create: " + library_reason());
   return Group(std::move(group), label_, absolute(path));
 }
 
@@ -257,7 +301,7 @@ void Group::remove(const std::string& path) {
   LibraryCall call;
   if (!exists(path)) fail("object", path, "missing");
   if (H5Ldelete(handle_.id(), path.c_str(), H5P_DEFAULT) < 0) {
-    fail("object", path, "cannot remove: " + library_reason());
+    fail_to_write("object", path, "cannot remove: " + library_reason());
   }
 }
 
@@ -265,19 +309,23 @@ template <class T>
 void Group::write_dataset(const std::string& path, const Shape& shape, const T* data) {
   static_assert(kIsElement<T>, "datasets hold float, double, int32 or int64");
   LibraryCall call;
-  if (exists(path)) fail("dataset", path, "already exists");
+  if (exists(path)) fail_to_write("dataset", path, "already exists");
   const std::vector<hsize_t> dims(shape.begin(), shape.end());
   Handle space(shape.empty() ? H5Screate(H5S_SCALAR) : H5Screate_simple(int(dims.size()), dims.data(), nullptr),
                H5Sclose);
-  if (!space.valid()) fail("dataset", path, "cannot describe shape " + describe(shape) + ": " + library_reason());
+  if (!space.valid())
+    fail_to_write("dataset", path, "cannot describe shape " + describe(shape) + ": " + library_reason());
   Handle links = link_creation_with_parents();
-  Handle dataset(
-      H5Dcreate2(handle_.id(), path.c_str(), file_type<T>(), space.id(), links.id(), H5P_DEFAULT, H5P_DEFAULT),
-      H5Dclose);
-  if (!dataset.valid()) fail("dataset", path, "cannot create: " + library_reason());
+  // Chunked with a checksum where there is data to chunk (a scalar or an empty dataset has none).
+  const bool chunked = !dims.empty() && point_count(space.id()) > 0;
+  Handle creation = chunked ? checksummed_dataset_creation(dims, sizeof(T)) : Handle();
+  Handle dataset(H5Dcreate2(handle_.id(), path.c_str(), file_type<T>(), space.id(), links.id(),
+                            chunked ? creation.id() : H5P_DEFAULT, H5P_DEFAULT),
+                 H5Dclose);
+  if (!dataset.valid()) fail_to_write("dataset", path, "cannot create: " + library_reason());
   if (point_count(space.id()) > 0 &&
       H5Dwrite(dataset.id(), memory_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) {
-    fail("dataset", path, "cannot write: " + library_reason());
+    fail_to_write("dataset", path, "cannot write: " + library_reason());
   }
 }
 
@@ -347,10 +395,10 @@ bool write_attribute_data(hid_t location, const std::string& name, hid_t file_ty
 
 void Group::write_attribute(const std::string& name, const std::string& value) {
   LibraryCall call;
-  Handle type = variable_string_type();
-  const char* text = value.c_str();
-  if (!write_attribute_data(handle_.id(), name, type.id(), type.id(), {}, &text)) {
-    fail("attribute", name, "cannot write: " + library_reason());
+  Handle type = fixed_string_type(value.size());
+  const std::string text = value.empty() ? std::string(1, '\0') : value;
+  if (!write_attribute_data(handle_.id(), name, type.id(), type.id(), {}, text.data())) {
+    fail_to_write("attribute", name, "cannot write: " + library_reason());
   }
 }
 
@@ -359,14 +407,14 @@ void Group::write_attribute(const std::string& name, const char* value) { write_
 void Group::write_attribute(const std::string& name, double value) {
   LibraryCall call;
   if (!write_attribute_data(handle_.id(), name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {}, &value)) {
-    fail("attribute", name, "cannot write: " + library_reason());
+    fail_to_write("attribute", name, "cannot write: " + library_reason());
   }
 }
 
 void Group::write_attribute(const std::string& name, std::int64_t value) {
   LibraryCall call;
   if (!write_attribute_data(handle_.id(), name, H5T_STD_I64LE, H5T_NATIVE_INT64, {}, &value)) {
-    fail("attribute", name, "cannot write: " + library_reason());
+    fail_to_write("attribute", name, "cannot write: " + library_reason());
   }
 }
 
@@ -374,18 +422,19 @@ void Group::write_attribute(const std::string& name, const std::vector<double>& 
   LibraryCall call;
   if (!write_attribute_data(handle_.id(), name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {hsize_t(values.size())},
                             values.data())) {
-    fail("attribute", name, "cannot write: " + library_reason());
+    fail_to_write("attribute", name, "cannot write: " + library_reason());
   }
 }
 
 void Group::write_attribute(const std::string& name, const std::vector<std::string>& values) {
   LibraryCall call;
-  Handle type = variable_string_type();
-  std::vector<const char*> texts;
-  texts.reserve(values.size());
-  for (const std::string& value : values) texts.push_back(value.c_str());
+  std::size_t longest = 1;
+  for (const std::string& value : values) longest = std::max(longest, value.size());
+  Handle type = fixed_string_type(longest);
+  std::string texts(longest * values.size(), '\0');
+  for (std::size_t i = 0; i < values.size(); ++i) texts.replace(i * longest, values[i].size(), values[i]);
   if (!write_attribute_data(handle_.id(), name, type.id(), type.id(), {hsize_t(values.size())}, texts.data())) {
-    fail("attribute", name, "cannot write: " + library_reason());
+    fail_to_write("attribute", name, "cannot write: " + library_reason());
   }
 }
 
@@ -475,7 +524,7 @@ std::int64_t Group::read_int64_attribute(const std::string& name) const {
 File File::create(const std::string& path, const std::string& role) {
   LibraryCall call;
   auto label = std::make_shared<const std::string>(role + " " + path);
-  Handle access = file_access();
+  Handle access = file_creation_access();
   Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id()), H5Fclose);
   if (!file.valid()) throw Error(*label + ": cannot create: " + library_reason());
   return File(std::move(file), std::move(label), path);
@@ -485,11 +534,11 @@ File File::open(const std::string& path, Mode mode, const std::string& role) {
   LibraryCall call;
   auto label = std::make_shared<const std::string>(role + " " + path);
   std::error_code error;
-  if (!std::filesystem::exists(path, error)) throw Error(*label + ": no such file");
-  if (!std::filesystem::is_regular_file(path, error)) throw Error(*label + ": not a regular file");
+  if (!std::filesystem::exists(path, error)) throw UnusableFileError(*label + ": no such file");
+  if (!std::filesystem::is_regular_file(path, error)) throw UnusableFileError(*label + ": not a regular file");
   Handle access = file_access();
   Handle file(H5Fopen(path.c_str(), mode == Mode::ReadOnly ? H5F_ACC_RDONLY : H5F_ACC_RDWR, access.id()), H5Fclose);
-  if (!file.valid()) throw Error(*label + ": cannot open as HDF5: " + library_reason());
+  if (!file.valid()) throw UnusableFileError(*label + ": cannot open as HDF5: " + library_reason());
   return File(std::move(file), std::move(label), path);
 }
 

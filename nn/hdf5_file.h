@@ -9,7 +9,17 @@
 #include <utility>
 #include <vector>
 
+#include "kernels/core/error.h"
+
 namespace romp::hdf5 {
+
+// A file whose content cannot be used: not HDF5, or an object missing or of the wrong kind, type or
+// shape, or damaged (a checksum fails on reading). The input's fault, not the machine's: the romp
+// command exits 3 for it (README "Exit codes"). Failures to create or write a file stay romp::Error.
+class UnusableFileError : public Error {
+ public:
+  using Error::Error;
+};
 
 // Dataset dimensions, slowest-varying first (row-major, as HDF5, h5py and ParaView read them).
 using Shape = std::vector<std::uint64_t>;
@@ -91,7 +101,9 @@ class Group {
       : handle_(std::move(handle)), label_(std::move(label)), path_(std::move(path)) {}
 
   // "<label>: <what> <absolute object path>: <problem>".
+  // Reading found `path` unusable (UnusableFileError), or writing it failed (romp::Error).
   [[noreturn]] void fail(const std::string& what, const std::string& path, const std::string& problem) const;
+  [[noreturn]] void fail_to_write(const std::string& what, const std::string& path, const std::string& problem) const;
   std::string absolute(const std::string& path) const;
 
   Handle handle_;

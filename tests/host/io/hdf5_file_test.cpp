@@ -1,7 +1,10 @@
-// romp_hdf5: typed datasets and attributes round-trip, and every failure names the file and the object.
+// romp_hdf5: typed datasets and attributes round-trip, damaged attributes and data are errors, and every
+// failure names the file and the object.
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -46,13 +49,14 @@ TEST_F(Hdf5File, AttributesRoundTrip) {
   {
     hdf5::File out = hdf5::File::create(path, "test file");
     out.write_attribute("text", "héllo");
+    out.write_attribute("spaced", " a b  ");
     out.write_attribute("long", long_text);
     out.write_attribute("number", 0.1);
     out.write_attribute("count", std::int64_t(-3));
     out.write_attribute("count", std::int64_t(42));  // replaces
     out.write_attribute("values", std::vector<double>{1.0, 2.5});
     out.write_attribute("no_values", std::vector<double>{});
-    out.write_attribute("names", std::vector<std::string>{"E", "", "nu"});
+    out.write_attribute("names", std::vector<std::string>{"E", "", "nu "});
     out.write_attribute("no_names", std::vector<std::string>{});
     hdf5::Group group = out.create_group("g/h");
     group.write_attribute("time", 2.0);
@@ -60,12 +64,13 @@ TEST_F(Hdf5File, AttributesRoundTrip) {
   }
   const hdf5::File in = hdf5::File::open(path, hdf5::Mode::ReadOnly, "test file");
   EXPECT_EQ(in.read_string_attribute("text"), "héllo");
+  EXPECT_EQ(in.read_string_attribute("spaced"), " a b  ");
   EXPECT_EQ(in.read_string_attribute("long"), long_text);
   EXPECT_EQ(in.read_double_attribute("number"), 0.1);
   EXPECT_EQ(in.read_int64_attribute("count"), 42);
   EXPECT_EQ(in.read_doubles_attribute("values"), (std::vector<double>{1.0, 2.5}));
   EXPECT_TRUE(in.read_doubles_attribute("no_values").empty());
-  EXPECT_EQ(in.read_strings_attribute("names"), (std::vector<std::string>{"E", "", "nu"}));
+  EXPECT_EQ(in.read_strings_attribute("names"), (std::vector<std::string>{"E", "", "nu "}));
   EXPECT_TRUE(in.read_strings_attribute("no_names").empty());
   EXPECT_EQ(in.open_group("/g/h").read_double_attribute("time"), 2.0);
   EXPECT_FALSE(in.has_attribute("absent"));
@@ -114,6 +119,47 @@ TEST_F(Hdf5File, ANonHdf5FileIsAnErrorThatSaysWhy) {
   std::ofstream(path) << "not HDF5 at all";
   const std::string message = error_message([&] { hdf5::File::open(path, hdf5::Mode::ReadOnly, "snapshot"); });
   EXPECT_NE(message.find("snapshot " + path + ": cannot open as HDF5: "), std::string::npos) << message;
+}
+
+// Flips one bit of the first occurrence of `marker`'s bytes in the file at `path`.
+void damage(const std::string& path, const std::string& marker) {
+  std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::size_t at = bytes.find(marker);
+  ASSERT_NE(at, std::string::npos) << marker << " is not stored as written";
+  file.seekp(std::streamoff(at + marker.size() / 2));
+  file.put(char(bytes[at + marker.size() / 2] ^ 0x10));
+}
+
+// A damaged string attribute is an error (its object header's checksum), not a crash inside libhdf5
+// (variable-length strings, in the global heap, had no checksum).
+TEST_F(Hdf5File, ADamagedStringAttributeIsAnError) {
+  const std::string path = file("damaged_attribute.h5");
+  {
+    hdf5::File out = hdf5::File::create(path, "law file");
+    out.write_attribute("material", "jelly-7f3a9c2e-marker");
+    out.write_dataset("w", {2}, std::vector<float>{1.0f, 2.0f});
+    out.close();
+  }
+  damage(path, "7f3a9c2e");
+  EXPECT_THROW(hdf5::File::open(path, hdf5::Mode::ReadOnly, "law file").read_string_attribute("material"), Error);
+}
+
+// Damaged data is an error when read (each chunk's Fletcher-32 checksum), not a result.
+TEST_F(Hdf5File, DamagedDatasetValuesAreAnError) {
+  const std::string path = file("damaged_values.h5");
+  const std::vector<std::int32_t> values(4096, 0x5a5a5a5a);
+  {
+    hdf5::File out = hdf5::File::create(path, "checkpoint");
+    out.write_dataset("ids", {4096}, values);
+    out.close();
+  }
+  const std::string pattern(64, char(0x5a));
+  damage(path, pattern);
+  const hdf5::File in = hdf5::File::open(path, hdf5::Mode::ReadOnly, "checkpoint");
+  const std::string message = error_message([&] { in.read_dataset<std::int32_t>("ids", {4096}); });
+  EXPECT_NE(message.find("checkpoint " + path + ": dataset /ids: cannot read: data error detected by Fletcher32 checksum"), std::string::npos)
+      << message;
 }
 
 TEST_F(Hdf5File, WritingAnExistingDatasetIsAnError) {
