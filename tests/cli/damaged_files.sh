@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# A damaged or foreign HDF5 input (here the reference snapshot of `romp run --compare`) makes romp exit 3
+# (invalid input) with a message naming the file: a flipped byte in its data or metadata (checksums),
+# a truncated file, a text file. Never exit 0, never a crash.
+set -uo pipefail
+romp="$1"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+cat > "$work/cube.toml" <<'SCENE'
+[scene]
+name = "damaged_files_cube"
+[domain]
+size = [0.2, 0.2, 0.2]
+dx = 0.02
+[time]
+end = 0.05
+frame_rate = 100
+[materials.jelly]
+preset = "jelly"
+[[objects]]
+name = "cube"
+shape = { type = "box", center = [0.1, 0.1, 0.1], size = [0.06, 0.06, 0.06] }
+SCENE
+run() { "$romp" --device cpu --threads 1 run --no-progress "$@" > "$work/log" 2>&1; }
+fail() { echo "FAIL: $1"; cat "$work/log"; exit 1; }
+run "$work/cube.toml" -o "$work/reference.h5" || fail "the reference run"
+size=$(stat -c %s "$work/reference.h5")
+
+# One bit flipped every 997 bytes of the second half (data and metadata alike).
+cp "$work/reference.h5" "$work/flipped.h5"
+python3 - "$work/flipped.h5" "$size" <<'PY'
+import sys
+path, size = sys.argv[1], int(sys.argv[2])
+data = bytearray(open(path, "rb").read())
+for offset in range(size // 2, size, 997):
+    data[offset] ^= 0x10
+open(path, "wb").write(bytes(data))
+PY
+head -c $((size / 2)) "$work/reference.h5" > "$work/truncated.h5"
+cp "$work/cube.toml" "$work/foreign.h5"
+
+for damaged in flipped truncated foreign; do
+  run "$work/cube.toml" -o "$work/again_$damaged.h5" --compare "$work/$damaged.h5"
+  code=$?
+  [ "$code" -eq 3 ] || fail "$damaged reference: exit code $code, expected 3"
+  grep -qF "$work/$damaged.h5" "$work/log" || fail "$damaged reference: the message does not name the file"
+done
+echo "damaged references: exit 3 each"
