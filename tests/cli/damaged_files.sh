@@ -6,21 +6,8 @@ set -uo pipefail
 romp="$1"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-cat > "$work/cube.toml" <<'SCENE'
-[scene]
-name = "damaged_files_cube"
-[domain]
-size = [0.2, 0.2, 0.2]
-dx = 0.02
-[time]
-end = 0.05
-frame_rate = 100
-[materials.jelly]
-preset = "jelly"
-[[objects]]
-name = "cube"
-shape = { type = "box", center = [0.1, 0.1, 0.1], size = [0.06, 0.06, 0.06] }
-SCENE
+source "$(dirname "$0")/cube_scene.sh"
+write_cube_scene "$work/cube.toml" damaged_files_cube
 run() { "$romp" --device cpu --threads 1 run --no-progress "$@" > "$work/log" 2>&1; }
 fail() { echo "FAIL: $1"; cat "$work/log"; exit 1; }
 run "$work/cube.toml" -o "$work/reference.h5" || fail "the reference run"

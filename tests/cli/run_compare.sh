@@ -6,21 +6,8 @@ set -uo pipefail
 romp="$1"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-cat > "$work/cube.toml" <<'SCENE'
-[scene]
-name = "compare_cube"
-[domain]
-size = [0.2, 0.2, 0.2]
-dx = 0.02
-[time]
-end = 0.05
-frame_rate = 100
-[materials.jelly]
-preset = "jelly"
-[[objects]]
-name = "cube"
-shape = { type = "box", center = [0.1, 0.1, 0.1], size = [0.06, 0.06, 0.06] }
-SCENE
+source "$(dirname "$0")/cube_scene.sh"
+write_cube_scene "$work/cube.toml" compare_cube
 sed 's/size = \[0.06, 0.06, 0.06\]/size = [0.04, 0.04, 0.04]/' "$work/cube.toml" > "$work/smaller.toml"
 run() { "$romp" --device cpu --threads 1 run --no-progress "$@" > "$work/log" 2>&1; }
 fail() { echo "FAIL: $1"; cat "$work/log"; exit 1; }
