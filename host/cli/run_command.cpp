@@ -58,8 +58,12 @@ int run_command(DeviceChoice choice, int threads, RunCommandOptions options) {
                  options.run.make_reduced ? "" : "; continue with --resume");
     return run::kExitInterrupted;
   }
-  fmt::print("{}: {} particles, {} frames, {} substeps ({:.4g} s simulated) in {:.3f} s on {}\n", scene.name,
-             r.particles, r.frames_written, r.substeps, r.simulated_seconds, r.wall_seconds, to_string(exec.backend));
+  // The file holds frame 0, the initial state, besides the frames simulated (by this process, or before
+  // a resume).
+  fmt::print("{}: {} particles, {} frames simulated ({} in the file, frame 0 the initial state), {} substeps ({:.4g} s "
+             "simulated) in {:.3f} s on {}\n",
+             scene.name, r.particles, r.frames_written, r.last_frame + 1, r.substeps, r.simulated_seconds,
+             r.wall_seconds, to_string(exec.backend));
   for (const std::string& line : r.diagnostics) fmt::print("{}\n", line);
   fmt::print("output: {}\n\n{}", r.output, run::stage_table(r.stage_seconds));
   if (options.reference.empty()) return kExitDone;
