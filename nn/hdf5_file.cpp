@@ -356,6 +356,26 @@ std::vector<T> Group::read_dataset(const std::string& path, const Shape& expecte
   if (shape != expected) fail("dataset", path, "shape " + describe(shape) + ", expected " + describe(expected));
   std::uint64_t count = 1;
   for (std::uint64_t extent : shape) count *= extent;
+  // What HDF5 would allocate to read it must fit what the shape holds: a damaged chunk size or layout
+  // made libhdf5 allocate 4 GB for a dataset of a few bytes (the snapshot fuzzer, tests/fuzz).
+  const std::uint64_t bytes = count * sizeof(T);
+  if (count > 0) {
+    Handle creation(H5Dget_create_plist(dataset.id()), H5Pclose);
+    if (H5Pget_layout(creation.id()) == H5D_CHUNKED) {
+      std::vector<hsize_t> chunk(shape.size());
+      if (H5Pget_chunk(creation.id(), int(chunk.size()), chunk.data()) != int(chunk.size()))
+        fail("dataset", path, "its chunk shape is unreadable: damaged");
+      for (std::size_t axis = 0; axis < chunk.size(); ++axis) {
+        if (chunk[axis] == 0 || chunk[axis] > std::max<hsize_t>(shape[axis], 1)) {
+          fail("dataset", path, "chunk shape " + describe(Shape(chunk.begin(), chunk.end())) + " exceeds shape " +
+                                    describe(shape) + ": damaged");
+        }
+      }
+    }
+    const hsize_t stored = H5Dget_storage_size(dataset.id());
+    if (stored > 2 * bytes + (std::uint64_t(1) << 20))
+      fail("dataset", path, std::to_string(stored) + " bytes stored for " + std::to_string(bytes) + " of data: damaged");
+  }
   std::vector<T> values(count);
   if (count > 0 && H5Dread(dataset.id(), memory_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0) {
     fail("dataset", path, "cannot read: " + library_reason());

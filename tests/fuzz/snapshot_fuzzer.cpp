@@ -1,0 +1,26 @@
+// libFuzzer harness: the snapshot reader (nn/snapshot_reader.h) on arbitrary bytes as a file, reading
+// the header and every frame as `romp run --compare`, `--output-points` and `train-rom` do. Any input
+// must either read or throw romp::Error; a crash (in romp or in libhdf5) is a bug.
+#include <unistd.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+#include "kernels/core/error.h"
+#include "nn/snapshot_reader.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static const std::string path = "/tmp/romp_snapshot_fuzzer_" + std::to_string(getpid()) + ".h5";
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (file == nullptr) return 0;
+  std::fwrite(data, 1, size, file);
+  std::fclose(file);
+  try {
+    const romp::io::SnapshotReader reader(path);
+    for (std::int64_t frame = 0; frame < reader.frame_count(); ++frame) reader.read_frame(frame);
+  } catch (const romp::Error&) {
+  }
+  return 0;
+}
