@@ -3,12 +3,26 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include "host/io/atomic_file.h"
 #include "kernels/core/error.h"
 #include "nn/hdf5_file.h"
 
 namespace romp::io {
 namespace {
+
+// A non-finite value in a checkpoint is damage (its checksums held, so it was written so): refused, not
+// resumed from.
+void require_finite(const hdf5::File& file, const char* name, const std::vector<float>& values) {
+  const auto bad = std::find_if(values.begin(), values.end(), [](float value) { return !std::isfinite(value); });
+  if (bad != values.end()) {
+    throw hdf5::UnusableFileError(fmt::format("{}: dataset /{}: value {} of {} is {}: not a state to resume from",
+                                              file.label(), name, bad - values.begin(), values.size(), *bad));
+  }
+}
 
 }  // namespace
 
@@ -50,16 +64,16 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
 Checkpoint read_checkpoint(const std::string& path) {
   hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadOnly, "checkpoint");
   if (!file.has_attribute("format") || file.read_string_attribute("format") != kCheckpointFormat) {
-    throw Error(fmt::format("{}: not a romp checkpoint (root attribute format is not \"{}\")", file.label(),
+    throw hdf5::UnusableFileError(fmt::format("{}: not a romp checkpoint (root attribute format is not \"{}\")", file.label(),
                             kCheckpointFormat));
   }
   const std::int64_t version = file.read_int64_attribute("format_version");
   if (version != kCheckpointFormatVersion) {
-    throw Error(fmt::format("{}: format_version {}, this romp reads {}", file.label(), version,
+    throw hdf5::UnusableFileError(fmt::format("{}: format_version {}, this romp reads {}", file.label(), version,
                             kCheckpointFormatVersion));
   }
   const std::int64_t n = file.read_int64_attribute("particle_count");
-  if (n < 0) throw Error(fmt::format("{}: particle_count {} is negative", file.label(), n));
+  if (n < 0) throw hdf5::UnusableFileError(fmt::format("{}: particle_count {} is negative", file.label(), n));
   Checkpoint checkpoint;
   checkpoint.frame = file.read_int64_attribute("frame");
   checkpoint.state.time = file.read_double_attribute("time");
@@ -68,12 +82,21 @@ Checkpoint read_checkpoint(const std::string& path) {
   for (const FieldInfo& info : kFieldInfos) {
     checkpoint.state.field(info.bit) =
         file.read_dataset<float>(info.name, {std::uint64_t(info.components), std::uint64_t(n)});
+    require_finite(file, info.name, checkpoint.state.field(info.bit));
+  }
+  // A run writes a checkpoint only after a finite frame: anything else is not a state to resume from.
+  if (!std::isfinite(checkpoint.state.time) || checkpoint.state.time < 0.0 || checkpoint.frame < 0 ||
+      checkpoint.state.step < 0) {
+    throw hdf5::UnusableFileError(fmt::format("{}: time {}, frame {}, step {}: not a state a run writes",
+                                              file.label(), checkpoint.state.time, checkpoint.frame,
+                                              checkpoint.state.step));
   }
   if (file.is_dataset("corner_x")) {
     const hdf5::Shape shape = file.dataset_shape("corner_x");
     if (shape.size() != 2 || shape[0] != 3)
-      throw Error(fmt::format("{}: corner_x must be [3, corners]", file.label()));
+      throw hdf5::UnusableFileError(fmt::format("{}: corner_x must be [3, corners]", file.label()));
     checkpoint.corner_x = file.read_dataset<float>("corner_x", shape);
+    require_finite(file, "corner_x", checkpoint.corner_x);
     checkpoint.particle_domain = file.read_dataset<std::int32_t>("particle_domain", {std::uint64_t(n)});
     checkpoint.domain_stiffening = float(file.read_double_attribute("domain_stiffening"));
   }

@@ -63,6 +63,23 @@ TEST_F(CheckpointFile, InconsistentStateIsRejectedAndNothingIsWritten) {
   EXPECT_TRUE(folder_contents().empty());
 }
 
+// A checkpoint with a non-finite value (its checksums intact: written so) is not a state to resume from:
+// refused as an unusable input (exit 3), naming the file, the dataset and the value.
+TEST_F(CheckpointFile, NonFiniteValuesAreRefused) {
+  std::mt19937 random(29);
+  Checkpoint checkpoint = random_checkpoint(10, random);
+  checkpoint.state.v[7] = std::numeric_limits<float>::quiet_NaN();
+  const std::string path = file("nan.checkpoint");
+  write_checkpoint(path, checkpoint);
+  try {
+    read_checkpoint(path);
+    ADD_FAILURE() << "no error";
+  } catch (const hdf5::UnusableFileError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "checkpoint " + path + ": dataset /v: value 7 of 30 is nan: not a state to resume from");
+  }
+}
+
 TEST_F(CheckpointFile, ReadErrorsNameTheFile) {
   const std::string missing = file("none.checkpoint");
   try {
