@@ -15,6 +15,7 @@ CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& options) {
       CLI::ExistingFile);
   sweep->add_option("-o,--output", options.sweep.output_dir, "Output folder")->required();
   sweep->add_option("-j,--jobs", options.sweep.jobs, "Members run at once on this machine")->check(CLI::PositiveNumber);
+  add_set_option(*sweep, options.scene);
   add_law_option(*sweep, options.scene);
   return sweep;
 }
@@ -23,6 +24,7 @@ int sweep_command(const GlobalOptions& global, SweepCommandOptions options) {
   options.sweep.run_arguments = {"--device",    global.device,   "--threads", std::to_string(global.threads),
                                  "--log-level", global.log_level};
   options.sweep.laws = options.scene.learned_laws();
+  options.sweep.overrides = options.scene.overrides();
   const std::string& path = options.scene.path;
   const run::SweepSummary s = run::run_sweep(path, options.sweep);
   fmt::print("sweep {}: {} members; rank {}/{} was assigned {}: {} already finished, {} run now, {} claimed by "

@@ -119,9 +119,13 @@ pid_t spawn(const std::string& executable, const std::vector<std::string>& argum
 std::string member_stem(std::int64_t index) { return fmt::format("member_{:06}", index); }
 
 SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& options) {
-  const scene::Scene base = scene::load_scene(scene_path, {}, options.laws);
+  const scene::Scene base = scene::load_scene(scene_path, options.overrides, options.laws);
   if (!base.sweep) throw scene::SceneError(fmt::format("{}: has no [sweep] table to run", scene_path));
   const std::vector<scene::SweepMember> members = scene::sweep_members(*base.sweep);
+  for (const scene::SweepAxis& axis : base.sweep->axes)
+    if (options.overrides.count(axis.parameter))
+      throw scene::SceneError(fmt::format("--set {0}: {1} sweeps {0}; set only parameters the sweep leaves alone",
+                                          axis.parameter, scene_path));
   const ProcessRank rank = detect_process_rank();
   const fs::path dir = options.output_dir;
   fs::create_directories(dir / "members");
@@ -132,7 +136,9 @@ SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& option
   std::map<std::int64_t, std::string> member_scenes;
   for (const scene::SweepMember& member : members) {
     try {
-      member_scenes[member.index] = scene::load_scene(scene_path, member.values, options.laws).resolved_text;
+      scene::ParameterValues values = options.overrides;
+      values.insert(member.values.begin(), member.values.end());
+      member_scenes[member.index] = scene::load_scene(scene_path, values, options.laws).resolved_text;
     } catch (const scene::SceneError& error) {
       throw scene::SceneError(fmt::format("sweep member {}: {}", member.index, error.what()));
     }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -61,6 +62,32 @@ class SweepRunner : public ::testing::Test {
   test::ScratchFolder folder_;
   std::string scene_;
 };
+
+// --set: a declared parameter the sweep leaves alone takes the given value in every member (e.g. a coarser
+// dx to shrink a paper's sweep); a swept one cannot be set.
+TEST_F(SweepRunner, SetGivesEveryMemberTheValueAndRefusesASweptParameter) {
+  std::string text = kSweepScene;
+  text.replace(text.find("speed = 1.0"), 11, "speed = 1.0\nwidth = 0.3");
+  text.replace(text.find("size = [0.3, 0.3, 0.3]"), 22, "size = [\"width\", \"width\", \"width\"]");
+  const std::string scene = folder_.write("sweep_width.toml", text);
+  SweepOptions o = options("set");
+  o.overrides = {{"width", 0.2}};
+  const SweepSummary summary = run_sweep(scene, o);
+  ASSERT_TRUE(summary.failed.empty()) << summary.failed.front();
+  nlohmann::json manifest;
+  std::ifstream(fs::path(o.output_dir) / "manifest.json") >> manifest;
+  ASSERT_EQ(manifest["members"].size(), 3u);
+  for (const auto& member : manifest["members"]) {
+    const io::SnapshotReader reader((fs::path(o.output_dir) / member["snapshot"].get<std::string>()).string());
+    const io::SnapshotHeader& header = reader.header();
+    const auto width = std::find(header.parameter_names.begin(), header.parameter_names.end(), "width");
+    ASSERT_NE(width, header.parameter_names.end());
+    EXPECT_EQ(header.parameter_values[std::size_t(width - header.parameter_names.begin())], 0.2);
+  }
+  o.output_dir = folder_.file("swept");
+  o.overrides = {{"speed", 3.0}};
+  EXPECT_THROW(run_sweep(scene, o), scene::SceneError);
+}
 
 TEST_F(SweepRunner, RunsEveryMemberOnceAndSkipsFinishedOnesOnResume) {
   const SweepOptions o = options("out");
