@@ -11,8 +11,20 @@
 #include "kernels/core/error.h"
 #include "nn/snapshot_reader.h"
 
+namespace {
+
+// The file each input is written to, removed when the run ends (libFuzzer exits normally after -runs or
+// -max_total_time; a crash leaves it, beside the crash-* input that made it).
+struct InputFile {
+  std::string path = "/tmp/romp_snapshot_fuzzer_" + std::to_string(getpid()) + ".h5";
+  ~InputFile() { std::remove(path.c_str()); }
+};
+
+}  // namespace
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const std::string path = "/tmp/romp_snapshot_fuzzer_" + std::to_string(getpid()) + ".h5";
+  static const InputFile input;
+  const std::string& path = input.path;
   std::FILE* file = std::fopen(path.c_str(), "wb");
   if (file == nullptr) return 0;
   std::fwrite(data, 1, size, file);
