@@ -64,8 +64,8 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
 Checkpoint read_checkpoint(const std::string& path) {
   hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadOnly, "checkpoint");
   if (!file.has_attribute("format") || file.read_string_attribute("format") != kCheckpointFormat) {
-    throw hdf5::UnusableFileError(fmt::format("{}: not a romp checkpoint (root attribute format is not \"{}\")", file.label(),
-                            kCheckpointFormat));
+    throw hdf5::UnusableFileError(fmt::format("{}: not a romp checkpoint (root attribute format is not \"{}\")",
+                                              file.label(), kCheckpointFormat));
   }
   const std::int64_t version = file.read_int64_attribute("format_version");
   if (version != kCheckpointFormatVersion) {

@@ -63,7 +63,9 @@ TEST_F(LearnLawCommand, StepsBelowTheEvaluationStrideAreRefusedBeforeTraining) {
       learn_law_command(DeviceChoice::Cpu, 1, options_);
       FAIL() << method << ": accepted";
     } catch (const CLI::ValidationError& error) {
-      EXPECT_NE(std::string(error.what()).find("measured every 5 substeps, so --steps must be at least that, got 4"), std::string::npos) << error.what();
+      EXPECT_NE(std::string(error.what()).find("measured every 5 substeps, so --steps must be at least that, got 4"),
+                std::string::npos)
+          << error.what();
     }
     EXPECT_FALSE(std::filesystem::exists(options_.output));
     EXPECT_FALSE(std::filesystem::exists(options_.output + ".checkpoint"));

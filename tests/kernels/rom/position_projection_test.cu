@@ -134,7 +134,7 @@ TEST(PositionProjection, StaysAtTheSolutionWhereItStartsThere) {
 
 // Positions off the manifold (as a substep's trial positions are): once the linear model promises less
 // than the cost's float resolution, the projection stops at the least-squares cost instead of wandering
-// in the rounding (22 linearisations here with the step criterion alone, 3 now).
+// in the rounding (with the step criterion alone it took 22 linearisations on this input).
 TEST(PositionProjection, StopsWhereTheCostIsResolvedNoFiner) {
   Projection p(20);
   std::vector<float> target = p.target.to_host();
