@@ -25,6 +25,7 @@ const std::vector<Suite> kSuites = {
     {"step", "full-order MPM particle-substeps per second and memory per particle", romp::bench::run_step_suite},
     {"svd", "batched 3x3 SVD against Eigen (CPU) and cuSOLVER (GPU); share of copy bandwidth", romp::bench::run_svd_suite},
     {"train", "seconds per neural-law training epoch (1000 substeps forward and backward)", romp::bench::run_train_suite},
+    {"law", "one neural constitutive law on 1k and 117k particles, forward and backward: fused kernels against LibTorch", romp::bench::run_law_suite},
     {"mlp", "deformation map g, grad g, dg/dxhat at 1k-200k points: fused kernel against LibTorch", romp::bench::run_mlp_suite},
     {"quadrature", "reduced substep, Lagrangian quadrature over every point against over the samples' neighbours",
      romp::bench::run_quadrature_suite},

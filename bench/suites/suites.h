@@ -5,6 +5,7 @@
 
 namespace romp::bench {
 
+void run_law_suite(Context& context);
 void run_memory_suite(Context& context);
 // The deformation map's value and derivatives: romp's fused kernel against LibTorch.
 void run_mlp_suite(Context& context);

@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include <string>
+
 #include "bench/suites/suites.h"
 #include "host/nclaw/ground_truth.h"
 #include "host/scene/scene_parser.h"
@@ -54,9 +56,17 @@ void run_train_suite(Context& context) {
     nn::TrainingOptions options;
     options.steps = steps;
     nn::LawTrainer trainer(config, truth.to(nn::torch_device(exec), torch::kFloat32), options);
-    context.time("train", "epoch_jelly_cube", exec, steps, "substep (forward + backward)",
-                 [&] { trainer.train_epoch(); }, 0.0,
-                 fmt::format("{} particles, {} substeps per epoch, both neural laws", n, steps));
+    nn::EpochReport last;
+    const Measurement epoch = context.time(
+        "train", "epoch_jelly_cube", exec, steps, "substep (forward + backward)", [&] { last = trainer.train_epoch(); },
+        0.0, fmt::format("{} particles, {} substeps per epoch, both neural laws", n, steps));
+    // Where the last epoch's time went (each phase waited for on the device).
+    const double update = last.seconds - last.forward_seconds - last.backward_seconds;
+    fmt::print("train: last epoch {:.3f} s: rollouts {:.3f} s, backward passes {:.3f} s, clipping and Adam {:.3f} s\n",
+               last.seconds, last.forward_seconds, last.backward_seconds, update);
+    const std::string key = fmt::format("train.epoch_jelly_cube.{}{}", epoch.backend, epoch.threads);
+    context.record(key + ".forward_share", last.forward_seconds / last.seconds);
+    context.record(key + ".backward_share", last.backward_seconds / last.seconds);
   }
 }
 

@@ -159,9 +159,10 @@ int learn_law_command(DeviceChoice choice, int threads, const LearnLawOptions& o
     const nn::EpochReport r = trainer.train_epoch();
     trainer.save_checkpoint(checkpoint);
     spdlog::info("epoch {}/{}: loss {:.6g}  teacher forcing every {} substeps  learning rates {:.3g}, {:.3g}  "
-                 "gradient norms {:.3g}, {:.3g}  {:.2f} s",
+                 "gradient norms {:.3g}, {:.3g}  {:.2f} s (rollouts {:.2f} s, backward {:.2f} s)",
                  r.epoch + 1, training.epochs, r.loss, r.teacher_forcing_period, r.elastic_learning_rate,
-                 r.plastic_learning_rate, r.elastic_gradient_norm, r.plastic_gradient_norm, r.seconds);
+                 r.plastic_learning_rate, r.elastic_gradient_norm, r.plastic_gradient_norm, r.seconds,
+                 r.forward_seconds, r.backward_seconds);
     if (run::interrupt_requested() && !trainer.finished()) {
       spdlog::warn("interrupted after epoch {}; continue with --resume (checkpoint {})", trainer.epochs_done(),
                    checkpoint);

@@ -1,19 +1,19 @@
-// NeuralMaterials: both laws of each neural material on its particles, through LibTorch on the engine's planes.
+// NeuralMaterials: both laws of each neural material on its particles, by the fused law kernels in place.
 #include "host/engine/neural_materials.h"
 
+#include "kernels/nclaw/neural_law.h"
 #include "nn/nclaw/law_file.h"
 #include "nn/tensor_bridge.h"
 
 namespace romp {
 namespace {
 
-// The [9, n] planes of F, aliased.
-torch::Tensor deformation_planes(const Exec& exec, const mpm::ParticleView& particles) {
-  return nn::as_tensor(Span<float>(particles.F.data(), 9 * particles.count), exec, {9, particles.count});
+// The float weights of a law's network, where the kernels read them (exec's device).
+nclaw::LawWeights<float> weights_of(const nn::LawParameters& parameters, const Exec& exec) {
+  return {nn::as_span<const float>(parameters.input, exec, "law input weight").data(),
+          nn::as_span<const float>(parameters.hidden, exec, "law hidden weight").data(),
+          nn::as_span<const float>(parameters.output, exec, "law output weight").data()};
 }
-
-// Indices of the particles where `selected` [n] is true.
-torch::Tensor indices_of(const torch::Tensor& selected) { return selected.nonzero().squeeze(1); }
 
 }  // namespace
 
@@ -35,32 +35,21 @@ NeuralMaterials::NeuralMaterials(const Exec& exec, const std::vector<MaterialSpe
 
 Mat3Planes<const float> NeuralMaterials::evaluate_stress(const Exec& exec, const mpm::ParticleView& particles) {
   ROMP_CHECK(stress_.size() == 9 * particles.count, "NeuralMaterials: the particle count changed");
-  const nn::TorchStreamScope stream(exec);
-  const torch::NoGradGuard no_grad;
-  const torch::Tensor F = deformation_planes(exec, particles);
-  const torch::Tensor material = nn::as_tensor(Span<const std::int32_t>(particles.material), exec, {particles.count});
-  torch::Tensor P = nn::as_tensor(stress_.span(), exec, {9, particles.count});
-  for (MaterialLaw& law : laws_) {
-    const torch::Tensor chosen = indices_of(material == law.material);
-    if (chosen.numel() > 0) P.index_copy_(1, chosen, law.laws.elastic->forward(F.index_select(1, chosen)));
-  }
-  return Mat3Planes<const float>(stress_.data(), particles.count);
+  const Mat3Planes<const float> F = particles.F;
+  const Mat3Planes<float> P(stress_.data(), particles.count);
+  for (const MaterialLaw& law : laws_)
+    nclaw::law_forward<float>(exec, weights_of(law.laws.elastic->weights(), exec), {1.0f, false}, F, P,
+                              {particles.material.data(), law.material, nullptr});
+  return P;
 }
 
 void NeuralMaterials::project_plasticity(const Exec& exec, const mpm::ParticleView& particles,
                                          const mpm::StepParams& step) {
-  {
-    const nn::TorchStreamScope stream(exec);
-    const torch::NoGradGuard no_grad;
-    torch::Tensor F = deformation_planes(exec, particles);
-    const torch::Tensor material = nn::as_tensor(Span<const std::int32_t>(particles.material), exec, {particles.count});
-    const torch::Tensor free =
-        nn::as_tensor(Span<const std::int32_t>(particles.dirichlet_group), exec, {particles.count}) ==
-        mpm::kNoDirichletGroup;
-    for (MaterialLaw& law : laws_) {
-      const torch::Tensor chosen = indices_of((material == law.material).logical_and(free));
-      if (chosen.numel() > 0) F.index_copy_(1, chosen, law.laws.plastic->forward(F.index_select(1, chosen)));
-    }
+  const Mat3Planes<float> F = particles.F;
+  for (const MaterialLaw& law : laws_) {
+    const nn::PlasticLaw& plastic = law.laws.plastic;
+    nclaw::law_forward<float>(exec, weights_of(plastic->weights(), exec), {float(plastic->step()), true}, F, F,
+                              {particles.material.data(), law.material, particles.dirichlet_group.data()});
   }
   mpm::record_non_finite_deformation(exec, particles, step, mpm::Stage::Plasticity);
 }

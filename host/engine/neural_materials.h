@@ -1,9 +1,9 @@
 // NeuralMaterials: the learned constitutive laws of a scene's neural materials, evaluated on the particles each substep.
 //
 // Ma et al. 2023 run a learned law inside an ordinary MPM step: P = elastic(F) before P2G, and
-// F ← plastic(F_trial) after G2P. Kernels cannot call LibTorch, so FullOrderSim hands these two
-// stages to this class, which runs the networks on the particle planes where they lie (no copies
-// to the host, on the run's device and stream). Any number of neural materials share a scene, each
+// F ← plastic(F_trial) after G2P. LibTorch loads and holds the weights; this class runs both laws
+// with the fused law kernels (kernels/nclaw/neural_law.h), one launch per neural material and stage,
+// on the particle planes where they lie, in place. Any number of neural materials share a scene, each
 // with its own law file, beside materials with analytic models.
 #pragma once
 

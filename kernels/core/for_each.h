@@ -33,11 +33,11 @@ void for_each_cpu(const Exec& exec, Index n, const F& functor) {
   for (Index i = 0; i < n; ++i) functor(i);
 }
 
-#if defined(__CUDACC__)
 // Threads per block for element-wise launches: a multiple of the warp size that keeps occupancy
 // high on sm_80/sm_90 for register-light functors.
 inline constexpr int kForEachBlockSize = 256;
 
+#if defined(__CUDACC__)
 // After a launch on exec's stream, from for_each and from the custom kernels alike: the launch's own
 // error, and in debug builds (or with ROMP_SYNC_LAUNCHES) any fault of the kernel, surfaced at the launch
 // that caused it.
@@ -54,18 +54,20 @@ __global__ void for_each_kernel(Index n, F functor) {
   if (i < n) functor(i);
 }
 
-template <class F>
+template <int kBlockSize, class F>
 void for_each_cuda(const Exec& exec, Index n, const F& functor) {
-  const Index blocks = (n + kForEachBlockSize - 1) / kForEachBlockSize;
+  const Index blocks = (n + kBlockSize - 1) / kBlockSize;
   ROMP_CHECK(blocks <= INT_MAX, "for_each: " + std::to_string(n) + " elements exceed one CUDA launch");
-  for_each_kernel<<<unsigned(blocks), kForEachBlockSize, 0, exec.stream>>>(n, functor);
+  for_each_kernel<<<unsigned(blocks), kBlockSize, 0, exec.stream>>>(n, functor);
   check_launch(exec);
 }
 #endif
 
 }  // namespace detail
 
-template <class F>
+// kBlockSize: threads per CUDA block. Heavy functors on few elements (a neural law on a thousand particles:
+// four blocks of 256 would keep four SMs busy) spread over more SMs in smaller blocks.
+template <int kBlockSize = detail::kForEachBlockSize, class F>
 void for_each(const Exec& exec, Index n, const F& functor) {
 #if defined(ROMP_WITH_CUDA) && !defined(__CUDACC__)
   // In a build with the CUDA backend, a launch from a file nvcc does not compile would throw at run
@@ -77,7 +79,7 @@ void for_each(const Exec& exec, Index n, const F& functor) {
   if (n <= 0) return;
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
-    detail::for_each_cuda(exec, n, functor);
+    detail::for_each_cuda<kBlockSize>(exec, n, functor);
     return;
 #else
     throw Error("for_each on the CUDA backend from a translation unit not compiled by nvcc; "

@@ -1,13 +1,11 @@
 // Batched launchers of svd3, polar3 and their backward passes: one element functor per operation, run by
-// romp::for_each on CUDA and as SIMD chunks across elements on the CPU.
+// romp::simd_for_each (for_each on CUDA, SIMD chunks across elements on the CPU).
 #include "kernels/svd/svd3_batched.h"
-
-#include <omp.h>
 
 #include <string>
 
 #include "kernels/core/error.h"
-#include "kernels/core/for_each.h"
+#include "kernels/core/simd_for_each.h"
 #include "kernels/svd/svd3.h"
 #include "kernels/svd/svd3_backward.h"
 
@@ -66,50 +64,6 @@ struct Polar3BackwardElement {
   }
 };
 
-// CPU path. romp::for_each's OpenMP loop runs one element per iteration; here each thread takes
-// chunks of elements and one SIMD lane computes one element (the element functors are branch-free
-// and fully inlined, see kernels/math/scalar.h). On x86-64 with GCC the SIMD loop is also compiled
-// for AVX2 (x86-64-v3) and AVX-512 (x86-64-v4), and the loader picks the widest the CPU supports:
-// the project's baseline flags target SSE2, four floats per vector. The wider clones may also contract
-// a b + c into FMA instructions, so CPUs of different ISA levels can differ in the last bits (well
-// within the tests' bounds); on one machine, results do not depend on the thread count.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__CUDA_ARCH__)
-#define ROMP_SVD_SIMD_CLONES __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
-#else
-#define ROMP_SVD_SIMD_CLONES
-#endif
-
-// Elements per chunk: a few AVX-512 vectors, small enough to balance the threads' work and keep a
-// chunk's 21 planes in L1; larger chunks measured no faster.
-constexpr Index kSimdChunk = 64;
-
-template <class Element>
-ROMP_SVD_SIMD_CLONES void run_simd(const Element& element, Index begin, Index end) {
-#pragma omp simd
-  for (Index i = begin; i < end; ++i) element(i);
-}
-
-template <class Element>
-void run_simd_chunks(const Exec& exec, Index count, const Element& element) {
-  const Index chunks = (count + kSimdChunk - 1) / kSimdChunk;
-  const int threads = detail::cpu_threads(exec);  // as romp::for_each's
-  const memory::DeviceAccess launch;
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (Index chunk = 0; chunk < chunks; ++chunk) {
-    const Index begin = chunk * kSimdChunk;
-    run_simd(element, begin, begin + kSimdChunk < count ? begin + kSimdChunk : count);
-  }
-}
-
-template <class Element>
-void launch(const Exec& exec, Index count, const Element& element) {
-  if (exec.is_cuda()) {
-    for_each(exec, count, element);
-  } else {
-    run_simd_chunks(exec, count, element);
-  }
-}
-
 void check_count(const char* operation, const char* view, Index count, Index expected) {
   ROMP_CHECK(count == expected, std::string(operation) + ": " + view + " holds " + std::to_string(count) +
                                     " elements, expected " + std::to_string(expected) + " (as the first input)");
@@ -122,7 +76,7 @@ void svd3_batched_impl(const Exec& exec, Mat3Planes<const T> F, Mat3Planes<T> U,
   check_count("svd3_batched", "U", U.count(), n);
   check_count("svd3_batched", "sigma", sigma.count(), n);
   check_count("svd3_batched", "V", V.count(), n);
-  launch(exec, n, Svd3Element<T>{F, U, sigma, V});
+  simd_for_each(exec, n, Svd3Element<T>{F, U, sigma, V});
 }
 
 template <class T>
@@ -130,7 +84,7 @@ void polar3_batched_impl(const Exec& exec, Mat3Planes<const T> F, Mat3Planes<T> 
   const Index n = F.count();
   check_count("polar3_batched", "R", R.count(), n);
   check_count("polar3_batched", "S", S.count(), n);
-  launch(exec, n, Polar3Element<T>{F, R, S});
+  simd_for_each(exec, n, Polar3Element<T>{F, R, S});
 }
 
 template <class T>
@@ -144,7 +98,7 @@ void svd3_backward_batched_impl(const Exec& exec, Mat3Planes<const T> U, Vec3Pla
   check_count("svd3_backward_batched", "dsigma", dsigma.count(), n);
   check_count("svd3_backward_batched", "dV", dV.count(), n);
   check_count("svd3_backward_batched", "dF", dF.count(), n);
-  launch(exec, n, Svd3BackwardElement<T>{U, sigma, V, dU, dsigma, dV, dF});
+  simd_for_each(exec, n, Svd3BackwardElement<T>{U, sigma, V, dU, dsigma, dV, dF});
 }
 
 template <class T>
@@ -154,7 +108,7 @@ void polar3_backward_batched_impl(const Exec& exec, Mat3Planes<const T> F, Mat3P
   check_count("polar3_backward_batched", "dR", dR.count(), n);
   check_count("polar3_backward_batched", "dS", dS.count(), n);
   check_count("polar3_backward_batched", "dF", dF.count(), n);
-  launch(exec, n, Polar3BackwardElement<T>{F, dR, dS, dF});
+  simd_for_each(exec, n, Polar3BackwardElement<T>{F, dR, dS, dF});
 }
 
 }  // namespace

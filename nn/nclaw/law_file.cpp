@@ -10,8 +10,6 @@ namespace romp::nn {
 namespace {
 
 constexpr const char* kActivation = "gelu";
-// Widths a file may declare: the paper's is 64; the bound only rejects absurd (corrupted) values.
-constexpr int64_t kMaxWidth = 4096;
 
 void write_network(hdf5::File& file, const std::string& group, const torch::nn::Module& network) {
   const std::vector<torch::Tensor> weights = network.parameters();
@@ -67,13 +65,14 @@ LawFile read_law_file(const std::string& path) {
   ROMP_CHECK(activation == kActivation,
              label + ": attribute activation is '" + activation + "', expected '" + kActivation + "'");
   const int64_t width = file.read_int64_attribute("width");
-  ROMP_CHECK(width >= 1 && width <= kMaxWidth, label + ": attribute width is " + std::to_string(width) +
-                                                   ", allowed 1 to " + std::to_string(kMaxWidth));
+  // The fused law kernels have the paper's sizes built in (kernels/nclaw/law_network.h).
+  ROMP_CHECK(width == kLawWidth, label + ": attribute width is " + std::to_string(width) + ", allowed only " +
+                                     std::to_string(kLawWidth) + " (the paper's, which romp's law kernels are built for)");
   const double step = file.read_double_attribute("plastic_step");
   ROMP_CHECK(std::isfinite(step) && step > 0.0,
              label + ": attribute plastic_step is " + std::to_string(step) + ", expected a positive number");
 
-  LawFile law{{ElasticLaw(width), PlasticLaw(width, step)}, {}};
+  LawFile law{{ElasticLaw(), PlasticLaw(step)}, {}};
   read_network(file, "elastic", *law.laws.elastic);
   read_network(file, "plastic", *law.laws.plastic);
   const hdf5::Group record = file.open_group("training");

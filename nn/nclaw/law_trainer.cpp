@@ -71,10 +71,13 @@ EpochReport LawTrainer::train_epoch() {
 
   elastic_optimizer_->zero_grad();
   plastic_optimizer_->zero_grad();
-  report.loss = backpropagate_trajectory_loss(
+  const TrajectoryLossResult loss = backpropagate_trajectory_loss(
       sim_, truth_, laws_.constitutive(),
       {options_.steps, report.teacher_forcing_period, options_.loss_scale, options_.checkpoint_every,
        options_.velocity_weight});
+  report.loss = loss.value;
+  report.forward_seconds = loss.forward_seconds;
+  report.backward_seconds = loss.backward_seconds;
   ROMP_CHECK(std::isfinite(report.loss), "training: the loss of epoch " + std::to_string(report.epoch) +
                                              " is not finite; the laws diverged (try smaller learning rates)");
 

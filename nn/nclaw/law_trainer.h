@@ -41,7 +41,9 @@ struct EpochReport {
   double elastic_learning_rate = 0.0;    // used for this epoch's update
   double plastic_learning_rate = 0.0;
   int64_t teacher_forcing_period = 0;
-  double seconds = 0.0;                  // wall time of the epoch
+  double seconds = 0.0;                  // wall time of the epoch: ...
+  double forward_seconds = 0.0;          // ... the rollouts and their loss graphs,
+  double backward_seconds = 0.0;         // ... their backward passes (the rest: clipping, Adam)
 };
 
 class LawTrainer {

@@ -3,15 +3,15 @@
 
 namespace romp::nn {
 
-ElasticLawImpl::ElasticLawImpl(int64_t width) : core_(width) { register_module("core", core_); }
+ElasticLawImpl::ElasticLawImpl() { register_module("core", core_); }
 
 torch::Tensor ElasticLawImpl::forward(const torch::Tensor& F) { return core_->forward(F); }
 
-PlasticLawImpl::PlasticLawImpl(int64_t width, double step) : core_(width), step_(step) {
+PlasticLawImpl::PlasticLawImpl(double step) : step_(step) {
   register_module("core", core_);
 }
 
-torch::Tensor PlasticLawImpl::forward(const torch::Tensor& F) { return F + step_ * core_->forward(F); }
+torch::Tensor PlasticLawImpl::forward(const torch::Tensor& F) { return core_->forward(F, step_, /*adds_input=*/true); }
 
 ConstitutiveLaws NeuralLaws::constitutive() const {
   // The closures share the modules, so they see later weight updates.

@@ -16,8 +16,9 @@ inline constexpr double kPlasticStep = 1e-3;
 // Elastic law: the first Piola–Kirchhoff stress P = R T(F) [9, n] of the elastic F [9, n].
 class ElasticLawImpl : public torch::nn::Module {
  public:
-  explicit ElasticLawImpl(int64_t width = kLawWidth);
+  ElasticLawImpl();
   torch::Tensor forward(const torch::Tensor& F);
+  const LawParameters& weights() const { return core_->weights(); }
 
  private:
   EquivariantMlp core_;
@@ -27,9 +28,10 @@ TORCH_MODULE(ElasticLaw);
 // Plastic law: the projected elastic F_new = F + α R T(F) [9, n] of a trial F [9, n].
 class PlasticLawImpl : public torch::nn::Module {
  public:
-  explicit PlasticLawImpl(int64_t width = kLawWidth, double step = kPlasticStep);
+  explicit PlasticLawImpl(double step = kPlasticStep);
   torch::Tensor forward(const torch::Tensor& F);
   double step() const { return step_; }
+  const LawParameters& weights() const { return core_->weights(); }
 
  private:
   EquivariantMlp core_;

@@ -59,7 +59,8 @@ double SystemIdentification::train_epoch() {
       sim_, truth_, law,
       {options_.steps,
        teacher_forcing_period(options_.teacher_forcing_first, options_.teacher_forcing_last, epoch, options_.epochs),
-       options_.loss_scale, 0});
+       options_.loss_scale, 0})
+                          .value;
   ROMP_CHECK(std::isfinite(loss), "system identification: the loss of epoch " + std::to_string(epoch) +
                                       " is not finite (try a smaller learning rate)");
   optimizer_->step();

@@ -20,11 +20,19 @@ struct TrajectoryLossOptions {
   double velocity_weight = 0.0;
 };
 
+// The loss and where its time went: the rollouts with their loss graphs, and their backward passes
+// (wall time, each phase waited for on the device, so both hold on a GPU too).
+struct TrajectoryLossResult {
+  double value = 0.0;
+  double forward_seconds = 0.0;
+  double backward_seconds = 0.0;
+};
+
 // The loss of options.steps substeps of `laws` from frame 0 of `truth`, restarted from the ground
 // truth every teacher_forcing_period substeps. Gradients are accumulated into whatever the laws
 // read: each segment goes backward as soon as its loss is known (no gradient crosses a restart),
 // so only one segment's graph is held at a time.
-double backpropagate_trajectory_loss(const DiffMpm& sim, const Trajectory& truth, const ConstitutiveLaws& laws,
-                                     const TrajectoryLossOptions& options);
+TrajectoryLossResult backpropagate_trajectory_loss(const DiffMpm& sim, const Trajectory& truth,
+                                                   const ConstitutiveLaws& laws, const TrajectoryLossOptions& options);
 
 }  // namespace romp::nn

@@ -66,7 +66,7 @@ TEST_F(TrajectoryLoss, MatchesTheLossWrittenOutSegmentBySegment) {
   for (double velocity_weight : {0.0, 0.02}) {
     SCOPED_TRACE(velocity_weight);
     const double value = backpropagate_trajectory_loss(sim, truth.trajectory, laws.constitutive(),
-                                                       {kSteps, kPeriod, kScale, 0, velocity_weight});
+                                                       {kSteps, kPeriod, kScale, 0, velocity_weight}).value;
     const std::vector<torch::Tensor> gradients = take_gradients();
     const double expected = loss_by_hand(velocity_weight);
     EXPECT_NEAR(value, expected, 1e-5 * expected);
@@ -78,9 +78,9 @@ TEST_F(TrajectoryLoss, VelocityPenaltyAddsToThePositionLoss) {
   const TrajectoryLossOptions positions_only{kSteps, kPeriod, kScale, 0, 0.0};
   TrajectoryLossOptions with_velocities = positions_only;
   with_velocities.velocity_weight = 0.02;
-  const double x_only = backpropagate_trajectory_loss(sim, truth.trajectory, laws.constitutive(), positions_only);
+  const double x_only = backpropagate_trajectory_loss(sim, truth.trajectory, laws.constitutive(), positions_only).value;
   take_gradients();
-  const double both = backpropagate_trajectory_loss(sim, truth.trajectory, laws.constitutive(), with_velocities);
+  const double both = backpropagate_trajectory_loss(sim, truth.trajectory, laws.constitutive(), with_velocities).value;
   take_gradients();
   std::printf("loss: positions %.6g, with velocities %.6g\n", x_only, both);
   // The untrained laws miss the truth's velocities by far more than 1e-3 m/s.
