@@ -35,7 +35,10 @@ Exec select_exec(DeviceChoice choice, const CudaProbe& probe, int cpu_threads) {
     throw Error("--device cuda: no CUDA device answered (" + probe.status + ")");
   }
   if (choice != DeviceChoice::Cpu && cuda_ready) return Exec::cuda(probe.devices.front().ordinal);
-  return Exec::cpu(cpu_threads);
+  // OpenMP's default, read now and kept: a CPU loop with threads = 0 asks OpenMP each time, and LibTorch
+  // changes OpenMP's count at its first parallel operation to its own default (Debian's LibTorch 1.13 on a
+  // 2-core machine: 1), so a run that loaded a learned law fell to one thread.
+  return Exec::cpu(cpu_threads > 0 ? cpu_threads : omp_get_max_threads());
 }
 
 std::string describe_selection(const Exec& exec, const CudaProbe& probe) {

@@ -17,7 +17,8 @@ DeviceChoice parse_device_choice(const std::string& text);
 // with a warning where it asks for more (0 = OpenMP's default). A negative request is an error.
 int cap_cpu_threads(int requested, int processors);
 
-// Resolves `choice` against what `probe` found, with cpu_threads capped at this machine's processors.
+// Resolves `choice` against what `probe` found, with cpu_threads capped at this machine's processors
+// (0: OpenMP's default now, kept in the Exec whatever later changes OpenMP's count).
 // Asking for CUDA where none answers is an error that says why (not compiled in, or the runtime's own
 // reason).
 Exec select_exec(DeviceChoice choice, const CudaProbe& probe, int cpu_threads = 0);

@@ -122,12 +122,14 @@ int learn_law_command(DeviceChoice choice, int threads, const LearnLawOptions& o
                                               std::to_string(nn::kEvaluationFrameStride) +
                                               " substeps, so --steps must be at least that, got " +
                                               std::to_string(options.steps));
-  if (threads > 0) {
-    // The romp kernels behind the autograd functions and LibTorch's own ops share the budget.
-    omp_set_num_threads(threads);
-    torch::set_num_threads(threads);
-  }
   const Exec exec = select_backend(choice, threads);
+  // The romp kernels behind the autograd functions and LibTorch's own ops share the CPU threads: both get
+  // the run's count (LibTorch's own default can be lower, see select_exec).
+  const int cpu_threads = exec.is_cuda() ? threads : exec.threads;
+  if (cpu_threads > 0) {
+    omp_set_num_threads(cpu_threads);
+    torch::set_num_threads(cpu_threads);
+  }
   if (exec.is_cuda() && !torch::cuda::is_available())
     throw Error("learn-law: the CUDA backend was selected but this LibTorch has no CUDA device; use --device cpu");
   const nclaw::GroundTruth truth = nclaw::read_ground_truth(options.trajectory, options.steps);

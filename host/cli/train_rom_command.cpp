@@ -2,6 +2,7 @@
 #include "host/cli/train_rom_command.h"
 
 #include <CLI/CLI.hpp>
+#include <omp.h>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <torch/torch.h>
@@ -113,7 +114,8 @@ CLI::App* add_train_rom_command(CLI::App& app, TrainRomOptions& options) {
 }
 
 int train_rom_command(DeviceChoice choice, int threads, const TrainRomOptions& options) {
-  if (threads > 0) torch::set_num_threads(threads);
+  // LibTorch's own default thread count can be below OpenMP's (Debian's LibTorch 1.13 on a 2-core machine: 1).
+  torch::set_num_threads(threads > 0 ? threads : omp_get_max_threads());
   const torch::Device device = training_device(choice, threads);
   nn::rom::TrainOptions train;
   train.settings = options.settings;

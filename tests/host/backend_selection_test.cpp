@@ -51,6 +51,15 @@ TEST(BackendSelection, ThreadsBeyondTheMachinesProcessorsAreCapped) {
   EXPECT_EQ(select_exec(DeviceChoice::Cpu, probe_without_devices(true), 100000).threads, omp_get_num_procs());
 }
 
+// The default thread count is fixed when the backend is chosen: LibTorch sets OpenMP's count to its own
+// default at its first parallel operation (1 on some machines), which once dropped learned-law runs to one
+// thread.
+TEST(BackendSelection, DefaultThreadCountIsFixedAtSelection) {
+  const Exec exec = select_exec(DeviceChoice::Cpu, probe_without_devices(true));
+  EXPECT_EQ(exec.threads, omp_get_max_threads());  // not 0, which would ask OpenMP again at every loop
+  EXPECT_GT(exec.threads, 0);
+}
+
 TEST(BackendSelection, CudaWithoutADeviceSaysWhy) {
   try {
     select_exec(DeviceChoice::Cuda, probe_without_devices(true));
