@@ -85,28 +85,30 @@ ROMP_MATH_INLINE void lane_entries(const T (&planes)[kLawOutputs][kLanes], int l
   for (int i = 0; i < kLawOutputs; ++i) entries[i] = planes[i][l];
 }
 
-}  // namespace lanes_detail
-
-// The law's output for particles [begin, begin + count), count ≤ kLanes, where keep(p) holds (Y may alias F).
-template <class T, class Keep>
-ROMP_MATH_INLINE void evaluate_law_block(const LawWeights<T>& w, const LawOutput<T>& output, Mat3Planes<const T> F,
-                                         Mat3Planes<T> Y, Index begin, int count, const Keep& keep) {
-  using namespace lanes_detail;
-  alignas(64) T features[kLawInputs][kLanes];
-  alignas(64) T R[9][kLanes];
+// The network for particles [begin, begin + count): features, rotations R, pre-activations s1, activations
+// h1 and the output `out` of every lane; where `last` is given, each second-layer activation of lane l goes to
+// last[j stride + l] (the backward pass keeps them for dW_output).
+template <class T>
+ROMP_MATH_INLINE void block_network_forward(const LawWeights<T>& w, Mat3Planes<const T> F, Index begin, int count,
+                                            T (&features)[kLawInputs][kLanes], T (&R)[9][kLanes],
+                                            T (&s1)[kLawWidth][kLanes], T (&h1)[kLawWidth][kLanes],
+                                            T (&out)[kLawOutputs][kLanes], T* last, Index stride) {
   block_features(F, begin, count, features, R);
-  alignas(64) T h1[kLawWidth][kLanes];
-  block_first_layer(w, features, h1);
+  block_first_layer(w, features, s1);
   for (int k = 0; k < kLawWidth; ++k)
 #pragma omp simd
-    for (int l = 0; l < kLanes; ++l) h1[k][l] = law_detail::gelu(h1[k][l]);
-  alignas(64) T out[kLawOutputs][kLanes] = {};
+    for (int l = 0; l < kLanes; ++l) h1[k][l] = law_detail::gelu(s1[k][l]);
+  for (int i = 0; i < kLawOutputs; ++i)
+    for (int l = 0; l < kLanes; ++l) out[i][l] = T(0);
   for (int j = 0; j < kLawWidth; j += kUnits) {
     alignas(64) T h2[kUnits][kLanes];
     block_second_layer_units(w, j, h1, h2);
-    for (int u = 0; u < kUnits; ++u)
+    for (int u = 0; u < kUnits; ++u) {
 #pragma omp simd
       for (int l = 0; l < kLanes; ++l) h2[u][l] = law_detail::gelu(h2[u][l]);
+      if (last != nullptr)
+        for (int l = 0; l < count; ++l) last[(j + u) * stride + l] = h2[u][l];
+    }
     for (int i = 0; i < kLawOutputs; ++i)
       for (int u = 0; u < kUnits; ++u) {
         const T weight = w.output[i * kLawWidth + j + u];
@@ -114,6 +116,18 @@ ROMP_MATH_INLINE void evaluate_law_block(const LawWeights<T>& w, const LawOutput
         for (int l = 0; l < kLanes; ++l) out[i][l] += weight * h2[u][l];
       }
   }
+}
+
+}  // namespace lanes_detail
+
+// The law's output for particles [begin, begin + count), count ≤ kLanes, where keep(p) holds (Y may alias F).
+template <class T, class Keep>
+ROMP_MATH_INLINE void evaluate_law_block(const LawWeights<T>& w, const LawOutput<T>& output, Mat3Planes<const T> F,
+                                         Mat3Planes<T> Y, Index begin, int count, const Keep& keep) {
+  using namespace lanes_detail;
+  alignas(64) T features[kLawInputs][kLanes], R[9][kLanes], s1[kLawWidth][kLanes], h1[kLawWidth][kLanes],
+      out[kLawOutputs][kLanes];
+  block_network_forward(w, F, begin, count, features, R, s1, h1, out, static_cast<T*>(nullptr), 0);
 #pragma omp simd
   for (int l = 0; l < count; ++l) {
     T out_l[kLawOutputs];
@@ -132,31 +146,9 @@ ROMP_MATH_INLINE void law_backward_block(const LawWeights<T>& w, const LawOutput
   using namespace lanes_detail;
   const LawActivationRows<T> rows = activation_rows(scratch, F.count(), begin);
   const Index stride = rows.stride;
-  alignas(64) T features[kLawInputs][kLanes];
-  alignas(64) T R[9][kLanes];
-  block_features(F, begin, count, features, R);
-  alignas(64) T s1[kLawWidth][kLanes], h1[kLawWidth][kLanes];
-  block_first_layer(w, features, s1);
-  for (int k = 0; k < kLawWidth; ++k)
-#pragma omp simd
-    for (int l = 0; l < kLanes; ++l) h1[k][l] = law_detail::gelu(s1[k][l]);
-
-  alignas(64) T out[kLawOutputs][kLanes] = {};
-  for (int j = 0; j < kLawWidth; j += kUnits) {
-    alignas(64) T h2[kUnits][kLanes];
-    block_second_layer_units(w, j, h1, h2);
-    for (int u = 0; u < kUnits; ++u) {
-#pragma omp simd
-      for (int l = 0; l < kLanes; ++l) h2[u][l] = law_detail::gelu(h2[u][l]);
-      for (int l = 0; l < count; ++l) rows.last[(j + u) * stride + l] = h2[u][l];
-    }
-    for (int i = 0; i < kLawOutputs; ++i)
-      for (int u = 0; u < kUnits; ++u) {
-        const T weight = w.output[i * kLawWidth + j + u];
-#pragma omp simd
-        for (int l = 0; l < kLanes; ++l) out[i][l] += weight * h2[u][l];
-      }
-  }
+  alignas(64) T features[kLawInputs][kLanes], R[9][kLanes], s1[kLawWidth][kLanes], h1[kLawWidth][kLanes],
+      out[kLawOutputs][kLanes];
+  block_network_forward(w, F, begin, count, features, R, s1, h1, out, rows.last, stride);
 
   alignas(64) T dout[kLawOutputs][kLanes] = {};
   alignas(64) T dF_direct[9][kLanes];

@@ -4,9 +4,11 @@
 //
 // Why fused. Op by op (LibTorch) a law is ~40 launches per substep, each over 1,000 particles: on the
 // H200 the GPU idled between them (81 % of the pool scene's run time, a training epoch slower than this
-// 2-core CPU). Per particle the whole law is ~5,500 multiply-adds forward and ~11,000 backward on 13
-// inputs and 9 outputs, so one thread per particle does it with nothing in memory but F, the output and
-// the weights (22 KB, read by every thread of a warp at the same address: one broadcast load each).
+// 2-core CPU). Per particle the whole law is ~5,500 multiply-adds forward and ~15,000 backward (the
+// forward recomputed) on 13 inputs and 9 outputs, so one thread per particle does it with nothing in
+// memory but F, the output and the weights (22 KB, read by every thread of a warp at the same address: one
+// broadcast load each). This is the CUDA path; the host runs law_lanes.h, which shares its per-particle
+// pieces (SVD, features, output and their backward passes) and takes the network layer by layer.
 //
 // Register layout. The layer sizes are compile-time constants and every loop that indexes an activation
 // array is unrolled on the device (ROMP_UNROLL), so the 64 hidden activations (and, backward, their 64
@@ -14,7 +16,7 @@
 // (its pre-activation, GELU, output contribution) and stays rolled. The backward pass recomputes the
 // forward activations from F instead of storing them (~1/3 more arithmetic, no activation traffic).
 //
-// Conventions are those of the LibTorch reference (nn/nclaw/features.h, equivariant_mlp.h): features
+// Conventions are those of the law composed of LibTorch operators (nn/nclaw/composed_law.h): features
 // σ − 1, FᵀF − I (row-major), det F − 1 with det F the triple product of F's rows; GELU the exact erf
 // form (torch::gelu's default); weights row-major [outputs, inputs] as torch::nn::Linear holds them.
 #pragma once
@@ -206,6 +208,27 @@ ROMP_MATH_INLINE Mat3<T> features_backward(const Mat3<T>& F, const T (&dfeatures
          svd3_backward(svd3(F), Mat3<T>::zero(), dsigma, Mat3<T>::zero());
 }
 
+// The network at F: its features, h1 = gelu(W_input features) and its output `out`; where `last` is given,
+// each second-layer activation h2_j also goes to last[j stride] (the backward pass keeps them for dW_output).
+template <class T>
+ROMP_MATH_INLINE void network_forward(const LawWeights<T>& w, const Mat3<T>& F, const Vec3<T>& sigma,
+                                      T (&features)[kLawInputs], T (&h1)[kLawWidth], T (&out)[kLawOutputs], T* last,
+                                      Index stride) {
+  features_of(F, sigma, features);
+  first_layer(w, features, h1);
+  ROMP_UNROLL
+  for (int k = 0; k < kLawWidth; ++k) h1[k] = gelu(h1[k]);
+  ROMP_UNROLL
+  for (int i = 0; i < kLawOutputs; ++i) out[i] = T(0);
+  ROMP_NO_UNROLL
+  for (int j = 0; j < kLawWidth; ++j) {
+    const T h2 = gelu(second_layer_unit(w, j, h1));
+    if (last != nullptr) last[j * stride] = h2;
+    ROMP_UNROLL
+    for (int i = 0; i < kLawOutputs; ++i) out[i] += w.output[i * kLawWidth + j] * h2;
+  }
+}
+
 }  // namespace law_detail
 
 // The law's output at F: scale · R sym(MLP(features(F))) (+ F for the plastic law).
@@ -213,19 +236,8 @@ template <class T>
 ROMP_MATH_INLINE Mat3<T> evaluate_law(const LawWeights<T>& w, const LawOutput<T>& output, const Mat3<T>& F) {
   using namespace law_detail;
   const Stretch<T> stretch = stretch_of(F, svd3(F));
-  T features[kLawInputs];
-  features_of(F, stretch.sigma, features);
-  T h1[kLawWidth];
-  first_layer(w, features, h1);
-  ROMP_UNROLL
-  for (int k = 0; k < kLawWidth; ++k) h1[k] = gelu(h1[k]);
-  T out[kLawOutputs] = {};
-  ROMP_NO_UNROLL
-  for (int j = 0; j < kLawWidth; ++j) {
-    const T h2 = gelu(second_layer_unit(w, j, h1));
-    ROMP_UNROLL
-    for (int i = 0; i < kLawOutputs; ++i) out[i] += w.output[i * kLawWidth + j] * h2;
-  }
+  T features[kLawInputs], h1[kLawWidth], out[kLawOutputs];
+  network_forward(w, F, stretch.sigma, features, h1, out, static_cast<T*>(nullptr), 0);
   return law_output(output, F, stretch.R, out);
 }
 
@@ -247,19 +259,9 @@ ROMP_MATH_INLINE Mat3<T> law_backward(const LawWeights<T>& w, const LawOutput<T>
   {
     const Svd3<T> svd = svd3(F);
     const Stretch<T> stretch = stretch_of(F, svd);
-    features_of(F, stretch.sigma, features);
-    first_layer(w, features, h1);
-    ROMP_UNROLL
-    for (int k = 0; k < kLawWidth; ++k) h1[k] = gelu(h1[k]);
     // The output once more (its gradient needs it), with h2 kept per unit for dW_output.
-    T out[kLawOutputs] = {};
-    ROMP_NO_UNROLL
-    for (int j = 0; j < kLawWidth; ++j) {
-      const T h2 = gelu(second_layer_unit(w, j, h1));
-      rows.last[j * stride] = h2;
-      ROMP_UNROLL
-      for (int i = 0; i < kLawOutputs; ++i) out[i] += w.output[i * kLawWidth + j] * h2;
-    }
+    T out[kLawOutputs];
+    network_forward(w, F, stretch.sigma, features, h1, out, rows.last, stride);
     dF = law_output_backward(output, svd, stretch.R, out, dY, dout);
   }
   ROMP_UNROLL

@@ -6,7 +6,7 @@
 
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
-#include "kernels/core/simd_for_each.h"
+#include "kernels/core/simd_for_each.h"  // ROMP_SIMD_CLONES
 #include "kernels/nclaw/law_lanes.h"
 #include "kernels/mpm/particle_set.h"
 
@@ -18,7 +18,7 @@ ROMP_HD_INLINE bool selected(const LawSelection& selection, Index p) {
   return selection.dirichlet_group == nullptr || selection.dirichlet_group[p] == mpm::kNoDirichletGroup;
 }
 
-// kSelective false: every particle, and no test in the loop (the host's SIMD loop stays branch-free).
+// kSelective false: every particle, with no test per particle.
 template <class T, bool kSelective>
 struct LawForwardParticle {
   LawWeights<T> weights;

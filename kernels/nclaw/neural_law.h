@@ -1,9 +1,10 @@
 // Batched neural constitutive laws over the engine's planes: the fused forward pass, its backward pass and
 // the weight gradients, on either backend (the CPU run is the reference the CUDA run must match).
 //
-// One thread (or CPU loop iteration) per particle runs the whole law (law_network.h); the weight
-// gradients are three plane-by-plane products over the particles' activation rows. A training substep is
-// thus three launches per law where LibTorch took ~40, and a full-order substep one per neural material.
+// On CUDA one thread per particle runs the whole law (law_network.h); the host runs blocks of 16 particles
+// one per SIMD lane (law_lanes.h), its reference. The weight gradients are sums over the particles'
+// activation rows. A training substep is thus three launches per law where LibTorch took ~40, and a
+// full-order substep one per neural material and stage.
 #pragma once
 
 #include <cstdint>
