@@ -13,13 +13,13 @@ namespace romp::nn {
 hdf5::File open_versioned_file(const std::string& path, const FileFormat& format) {
   hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadOnly, format.role);
   if (!file.has_attribute("format") || file.read_string_attribute("format") != format.name) {
-    throw Error(fmt::format("{}: not {}: root attribute format is not \"{}\"", file.label(), format.description,
-                            format.name));
+    throw hdf5::UnusableFileError(fmt::format("{}: not {}: root attribute format is not \"{}\"", file.label(),
+                                              format.description, format.name));
   }
   const std::int64_t version = file.read_int64_attribute("format_version");
   if (version < 1 || version > format.version) {
-    throw Error(fmt::format("{}: format_version {} is not one this romp reads (1 .. {})", file.label(), version,
-                            format.version));
+    throw hdf5::UnusableFileError(fmt::format("{}: format_version {} is not one this romp reads (1 .. {})",
+                                              file.label(), version, format.version));
   }
   return file;
 }

@@ -9,6 +9,11 @@
 namespace romp::nn {
 namespace {
 
+// A law file whose content is not a usable law: an invalid input (exit 3), like a damaged HDF5 file.
+void require(bool usable, const std::string& problem) {
+  if (!usable) throw hdf5::UnusableFileError(problem);
+}
+
 constexpr const char* kActivation = "gelu";
 
 void write_network(hdf5::File& file, const std::string& group, const torch::nn::Module& network) {
@@ -27,7 +32,7 @@ void read_network(const hdf5::File& file, const std::string& group, torch::nn::M
     const std::string name = group + "/weight_" + std::to_string(layer);
     std::vector<double> values = file.read_dataset<double>(name, {uint64_t(weight.size(0)), uint64_t(weight.size(1))});
     for (double value : values)
-      ROMP_CHECK(std::isfinite(value), file.label() + ": dataset /" + name + ": holds a non-finite weight");
+      require(std::isfinite(value), file.label() + ": dataset /" + name + ": holds a non-finite weight");
     weight.copy_(torch::from_blob(values.data(), weight.sizes(), torch::kFloat64));
   }
 }
@@ -57,20 +62,20 @@ LawFile read_law_file(const std::string& path) {
   const hdf5::File file = open_versioned_file(path, kLawFile);
   const std::string& label = file.label();
   const int64_t inputs = file.read_int64_attribute("inputs"), outputs = file.read_int64_attribute("outputs");
-  ROMP_CHECK(inputs == kLawInputs && outputs == kLawOutputs,
-             label + ": attributes inputs, outputs are " + std::to_string(inputs) + ", " + std::to_string(outputs) +
-                 "; the laws have " + std::to_string(kLawInputs) + " inputs and " + std::to_string(kLawOutputs) +
-                 " outputs");
+  require(inputs == kLawInputs && outputs == kLawOutputs,
+          label + ": attributes inputs, outputs are " + std::to_string(inputs) + ", " + std::to_string(outputs) +
+              "; the laws have " + std::to_string(kLawInputs) + " inputs and " + std::to_string(kLawOutputs) +
+              " outputs");
   const std::string activation = file.read_string_attribute("activation");
-  ROMP_CHECK(activation == kActivation,
-             label + ": attribute activation is '" + activation + "', expected '" + kActivation + "'");
+  require(activation == kActivation,
+          label + ": attribute activation is '" + activation + "', expected '" + kActivation + "'");
   const int64_t width = file.read_int64_attribute("width");
   // The fused law kernels have the paper's sizes built in (kernels/nclaw/law_network.h).
-  ROMP_CHECK(width == kLawWidth, label + ": attribute width is " + std::to_string(width) + ", allowed only " +
-                                     std::to_string(kLawWidth) + " (the paper's, which romp's law kernels are built for)");
+  require(width == kLawWidth, label + ": attribute width is " + std::to_string(width) + ", allowed only " +
+                                  std::to_string(kLawWidth) + " (the paper's, which romp's law kernels are built for)");
   const double step = file.read_double_attribute("plastic_step");
-  ROMP_CHECK(std::isfinite(step) && step > 0.0,
-             label + ": attribute plastic_step is " + std::to_string(step) + ", expected a positive number");
+  require(std::isfinite(step) && step > 0.0,
+          label + ": attribute plastic_step is " + std::to_string(step) + ", expected a positive number");
 
   LawFile law{{ElasticLaw(), PlasticLaw(step)}, {}};
   read_network(file, "elastic", *law.laws.elastic);

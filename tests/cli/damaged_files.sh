@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# A damaged or foreign HDF5 input (here the reference snapshot of `romp run --compare`) makes romp exit 3
-# (invalid input) with a message naming the file: a flipped byte in its data or metadata (checksums),
-# a truncated file, a text file. Never exit 0, never a crash.
+# A damaged or foreign HDF5 input (the reference snapshot of `romp run --compare`, a learned law of `--law`, a
+# reduced-order model of `--rom`) makes romp exit 3 (invalid input) with a message naming the file: a flipped
+# byte in its data or metadata (checksums), a truncated file, a text file, a file of another kind. Never exit
+# 0, never a crash.
 set -uo pipefail
 romp="$1"
 work="$(mktemp -d)"
@@ -33,3 +34,12 @@ for damaged in flipped truncated foreign; do
   grep -qF "$work/$damaged.h5" "$work/log" || fail "$damaged reference: the message does not name the file"
 done
 echo "damaged references: exit 3 each"
+
+# A learned law or a reduced-order model that is another kind of file (here the snapshot) or damaged.
+for input in "--law jelly=$work/reference.h5" "--law jelly=$work/truncated.h5" "--rom $work/reference.h5"; do
+  run "$work/cube.toml" -o "$work/with_input.h5" $input
+  code=$?
+  [ "$code" -eq 3 ] || fail "$input: exit code $code, expected 3"
+  grep -qF "$work/" "$work/log" || fail "$input: the message does not name the file"
+done
+echo "foreign and damaged law and model files: exit 3 each"
