@@ -6,8 +6,10 @@
 #
 #   tools/nclaw_evaluate.sh MATERIAL LAW.h5 OUTPUT_DIR [romp options, e.g. --device cpu]
 #
-# MATERIAL is jelly, sand, plasticine or water. The ground-truth runs go to OUTPUT_DIR/truth and are
-# reused by later evaluations into the same folder; the law's runs go to OUTPUT_DIR/<law file stem>.
+# MATERIAL is jelly, sand, plasticine or water. The ground-truth runs go to OUTPUT_DIR/truth/MATERIAL and are
+# reused by later evaluations of that material into the same folder (they were once keyed by task alone, so a
+# second material's laws were compared with the first material's ground truth); the law's runs go to
+# OUTPUT_DIR/<law file stem>.
 # Prints one markdown row per task: (a) long, (b) velocities (the mean over the sweep's three members),
 # (c) shape, (d) inclined; a learned run that stops non-finite is reported as such, not as a number.
 set -uo pipefail
@@ -19,7 +21,7 @@ out="$3"
 shift 3
 options=("$@")
 scenes="$root/scenes/nclaw/generalization"
-truth_dir="$out/truth"
+truth_dir="$out/truth/$material"
 learned_dir="$out/$(basename "$law" .h5)"
 mkdir -p "$truth_dir" "$learned_dir"
 
