@@ -8,22 +8,24 @@
 namespace romp::io {
 namespace {
 
-// Opens and checks format and version. A run's .partial file may be open for writing meanwhile: the
+// Opens and checks format and version. What is wrong with the file's content is an invalid input
+// (hdf5::UnusableFileError: romp exits 3), as damage to the file is. A run's .partial file may be open for writing meanwhile: the
 // writer flushes after each frame and raises frame_count last, so the frames below it read whole.
 hdf5::File open_snapshot(const std::string& path) {
   hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadOnly, "snapshot");
   if (!file.has_attribute("format")) {
-    throw Error(file.label() + ": not a romp snapshot: root attribute format is missing");
+    throw hdf5::UnusableFileError(file.label() + ": not a romp snapshot: root attribute format is missing");
   }
   const std::string format = file.read_string_attribute("format");
   if (format != kSnapshotFormat) {
-    throw Error(fmt::format("{}: not a romp snapshot: root attribute format is \"{}\", expected \"{}\"", file.label(),
-                            format, kSnapshotFormat));
+    throw hdf5::UnusableFileError(fmt::format("{}: not a romp snapshot: root attribute format is \"{}\", expected \"{}\"",
+                                              file.label(), format, kSnapshotFormat));
   }
   const std::int64_t version = file.read_int64_attribute("format_version");
   if (version < 1 || version > kSnapshotFormatVersion) {
-    throw Error(fmt::format("{}: format_version {} is not one this romp reads (1 .. {}){}", file.label(), version,
-                            kSnapshotFormatVersion, version > kSnapshotFormatVersion ? "; a newer romp wrote it" : ""));
+    throw hdf5::UnusableFileError(fmt::format("{}: format_version {} is not one this romp reads (1 .. {}){}",
+                                              file.label(), version, kSnapshotFormatVersion,
+                                              version > kSnapshotFormatVersion ? "; a newer romp wrote it" : ""));
   }
   return file;
 }
@@ -32,13 +34,13 @@ hdf5::File open_snapshot(const std::string& path) {
 
 SnapshotReader::SnapshotReader(const std::string& path) : file_(open_snapshot(path)) {
   const std::int64_t n = file_.read_int64_attribute("particle_count");
-  if (n < 0) throw Error(fmt::format("{}: particle_count {} is negative", file_.label(), n));
+  if (n < 0) throw hdf5::UnusableFileError(fmt::format("{}: particle_count {} is negative", file_.label(), n));
   const std::uint64_t count = std::uint64_t(n);
   const std::vector<std::string> field_list = file_.read_strings_attribute("fields");
   try {
     fields_ = parse_fields(field_list);
   } catch (const Error& error) {
-    throw Error(file_.label() + ": attribute /fields: " + error.what());
+    throw hdf5::UnusableFileError(file_.label() + ": attribute /fields: " + error.what());
   }
 
   header_.romp_version = file_.read_string_attribute("romp_version");
@@ -47,8 +49,8 @@ SnapshotReader::SnapshotReader(const std::string& path) : file_(open_snapshot(pa
   header_.parameter_names = file_.read_strings_attribute("parameter_names");
   header_.parameter_values = file_.read_doubles_attribute("parameter_values");
   if (header_.parameter_names.size() != header_.parameter_values.size()) {
-    throw Error(fmt::format("{}: {} parameter_names but {} parameter_values", file_.label(),
-                            header_.parameter_names.size(), header_.parameter_values.size()));
+    throw hdf5::UnusableFileError(fmt::format("{}: {} parameter_names but {} parameter_values", file_.label(),
+                                              header_.parameter_names.size(), header_.parameter_values.size()));
   }
   header_.X = rows_to_planes(file_.read_dataset<float>("/particles/X", {count, 3}), 3);
   header_.mass = file_.read_dataset<float>("/particles/mass", {count});
@@ -57,7 +59,7 @@ SnapshotReader::SnapshotReader(const std::string& path) : file_(open_snapshot(pa
 
   const std::int64_t frames = file_.read_int64_attribute("frame_count");
   if (frames < 0 || frames > kMaxFrames) {
-    throw Error(fmt::format("{}: frame_count {} is outside [0, {}]", file_.label(), frames, kMaxFrames));
+    throw hdf5::UnusableFileError(fmt::format("{}: frame_count {} is outside [0, {}]", file_.label(), frames, kMaxFrames));
   }
   times_.reserve(std::size_t(frames));
   steps_.reserve(std::size_t(frames));

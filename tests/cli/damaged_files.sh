@@ -27,7 +27,10 @@ PY
 head -c $((size / 2)) "$work/reference.h5" > "$work/truncated.h5"
 cp "$work/cube.toml" "$work/foreign.h5"
 
-for damaged in flipped truncated foreign; do
+# A romp HDF5 file of another kind: the shipped jelly law.
+cp "$(dirname "$0")/../../scenes/nclaw/laws/jelly.h5" "$work/other_kind.h5"
+
+for damaged in flipped truncated foreign other_kind; do
   run "$work/cube.toml" -o "$work/again_$damaged.h5" --compare "$work/$damaged.h5"
   code=$?
   [ "$code" -eq 3 ] || fail "$damaged reference: exit code $code, expected 3"
