@@ -157,14 +157,18 @@ int learn_law_command(DeviceChoice choice, int threads, const LearnLawOptions& o
                truth.trajectory.particle_count(), training.steps, training.epochs, device.str());
   // Ctrl-C or SIGTERM ends the epoch under way, whose checkpoint is then the place to resume from.
   run::install_interrupt_handler();
+  const int64_t first_epoch = trainer.epochs_done();  // the ETA counts only this process's epochs
+  double seconds_so_far = 0.0;
   while (!trainer.finished()) {
     const nn::EpochReport r = trainer.train_epoch();
     trainer.save_checkpoint(checkpoint);
+    seconds_so_far += r.seconds;
+    const double eta = seconds_so_far / double(r.epoch + 1 - first_epoch) * double(training.epochs - r.epoch - 1);
     spdlog::info("epoch {}/{}: loss {:.6g}  teacher forcing every {} substeps  learning rates {:.3g}, {:.3g}  "
-                 "gradient norms {:.3g}, {:.3g}  {:.2f} s (rollouts {:.2f} s, backward {:.2f} s)",
+                 "gradient norms {:.3g}, {:.3g}  {:.2f} s (rollouts {:.2f} s, backward {:.2f} s), ETA {:.0f} s",
                  r.epoch + 1, training.epochs, r.loss, r.teacher_forcing_period, r.elastic_learning_rate,
                  r.plastic_learning_rate, r.elastic_gradient_norm, r.plastic_gradient_norm, r.seconds,
-                 r.forward_seconds, r.backward_seconds);
+                 r.forward_seconds, r.backward_seconds, eta);
     if (run::interrupt_requested() && !trainer.finished()) {
       spdlog::warn("interrupted after epoch {}; continue with --resume (checkpoint {})", trainer.epochs_done(),
                    checkpoint);
