@@ -13,6 +13,9 @@
 # Prints one markdown row per task: (a) long, (b) velocities (the mean over the sweep's three members),
 # (c) shape, (d) inclined; a learned run that stops non-finite is reported as such, not as a number.
 set -uo pipefail
+# Ctrl-C (or SIGTERM) stops the whole evaluation, not only the run under way: romp finishes its frame and
+# exits 130 itself, which bash takes as handled and would go on from; the trap runs once that run has ended.
+trap 'echo "interrupted" >&2; exit 130' INT TERM
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 romp="${ROMP:-$root/build/romp}"
 material="$1"

@@ -39,6 +39,9 @@
 # experiments on the same OUTPUT_DIR share sweeps and maps; an existing sweep placed at
 # OUTPUT_DIR/<scene>/sweep or a map at OUTPUT_DIR/<scene>/<map>.h5 is reused the same way.
 set -euo pipefail
+# Ctrl-C (or SIGTERM) stops the whole pipeline, not only the run under way: romp finishes its frame and
+# exits 130 itself, which bash takes as handled and would go on from; the trap runs once that run has ended.
+trap 'echo "interrupted" >&2; exit 130' INT TERM
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 romp="${ROMP:-$root/build/romp}"
 usage() { sed -n '7,40p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
