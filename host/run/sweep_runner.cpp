@@ -10,7 +10,9 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -154,7 +156,24 @@ SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& option
       options.executable.empty() ? fs::read_symlink("/proc/self/exe").string() : options.executable;
   install_interrupt_handler();
 
+  // Progress over this rank's members: how many are done, how many run, and an ETA from this process's
+  // throughput so far (members already finished before it started are not timed).
+  const std::int64_t rank_members = std::count_if(members.begin(), members.end(), [&](const scene::SweepMember& m) {
+    return m.index % rank.size == rank.rank;
+  });
+  const auto started = std::chrono::steady_clock::now();
   std::map<pid_t, Child> running;
+  auto progress = [&] {
+    const std::int64_t completed = summary.ran + std::int64_t(summary.failed.size());
+    const std::int64_t done = summary.finished_before + completed;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    const std::int64_t left = rank_members - done - summary.busy_elsewhere;
+    const std::string eta = completed == 0 ? std::string("ETA after the first member")
+                                           : fmt::format("ETA {:.0f} s", elapsed / double(completed) *
+                                                                             double(std::max<std::int64_t>(left, 0)));
+    return fmt::format("{}/{} done, {} running, {}", done, rank_members, running.size(), eta);
+  };
+
   auto wait_one = [&] {
     int status = 0;
     const pid_t pid = waitpid(-1, &status, 0);
@@ -170,11 +189,11 @@ SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& option
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     if (code == 0) {
       ++summary.ran;
-      spdlog::info("member {} finished", child.index);
+      spdlog::info("member {} finished ({})", child.index, progress());
     } else {
       summary.failed.push_back(
           fmt::format("member {}: exit code {}, log {}", child.index, code, child.log.string()));
-      spdlog::warn("{}", summary.failed.back());
+      spdlog::warn("{} ({})", summary.failed.back(), progress());
     }
   };
 
@@ -208,7 +227,7 @@ SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& option
       fs::remove(lock);
       throw;
     }
-    spdlog::info("member {} started ({} running)", member.index, running.size());
+    spdlog::info("member {} started ({})", member.index, progress());
   }
   while (!running.empty()) wait_one();
   return summary;
