@@ -95,9 +95,16 @@ int main(int argc, char** argv) {
     if (choice == romp::DeviceChoice::Cuda) options.cpu_threads.clear();
 
     romp::bench::Context context(options, joined_command(argc, argv));
-    for (const Suite& suite : kSuites) {
-      if (!requested.empty() && std::find(requested.begin(), requested.end(), suite.name) == requested.end()) continue;
-      suite.run(context);
+    std::vector<const Suite*> chosen;
+    for (const Suite& suite : kSuites)
+      if (requested.empty() || std::find(requested.begin(), requested.end(), suite.name) != requested.end())
+        chosen.push_back(&suite);
+    // Progress: which suite of how many, and the time so far (suites take seconds to an hour).
+    const auto started = std::chrono::steady_clock::now();
+    for (std::size_t k = 0; k < chosen.size(); ++k) {
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      fmt::print(stderr, "romp-bench: suite {}/{}: {} ({:.0f} s so far)\n", k + 1, chosen.size(), chosen[k]->name, elapsed);
+      chosen[k]->run(context);
     }
     if (stem.empty()) stem = "bench-" + timestamp();
     romp::bench::write_report(context, out_directory, stem);
