@@ -33,16 +33,22 @@ ROMP_SIMD_CLONES void run_simd(const Element& element, Index begin, Index end) {
   for (Index i = begin; i < end; ++i) element(i);
 }
 
+// block(begin, size) for consecutive chunks of `chunk` elements (the last one shorter), spread over exec's
+// threads: the host loop of kernels that work on several elements at once.
+template <class Block>
+void for_each_chunk_cpu(const Exec& exec, Index count, Index chunk, const Block& block) {
+  const Index chunks = (count + chunk - 1) / chunk;
+  const memory::DeviceAccess launch;
+#pragma omp parallel for schedule(static) num_threads(cpu_threads(exec))
+  for (Index c = 0; c < chunks; ++c) {
+    const Index begin = c * chunk;
+    block(begin, begin + chunk < count ? chunk : count - begin);
+  }
+}
+
 template <class Element>
 void simd_for_each_cpu(const Exec& exec, Index count, const Element& element) {
-  const Index chunks = (count + kSimdChunk - 1) / kSimdChunk;
-  const int threads = cpu_threads(exec);
-  const memory::DeviceAccess launch;
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (Index chunk = 0; chunk < chunks; ++chunk) {
-    const Index begin = chunk * kSimdChunk;
-    run_simd(element, begin, begin + kSimdChunk < count ? begin + kSimdChunk : count);
-  }
+  for_each_chunk_cpu(exec, count, kSimdChunk, [&](Index begin, Index size) { run_simd(element, begin, begin + size); });
 }
 
 }  // namespace detail

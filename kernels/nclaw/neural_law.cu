@@ -6,7 +6,7 @@
 
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
-#include "kernels/core/simd_for_each.h"  // ROMP_SIMD_CLONES
+#include "kernels/core/simd_for_each.h"
 #include "kernels/nclaw/law_lanes.h"
 #include "kernels/mpm/particle_set.h"
 
@@ -141,21 +141,11 @@ void weight_gradients_on_host(const Exec& exec, const T* activations, Index coun
   const auto tiles = [](int extent) { return (extent + kTile - 1) / kTile; };
   int first_tile[4] = {0, 0, 0, 0};
   for (int m = 0; m < 3; ++m) first_tile[m + 1] = first_tile[m] + tiles(matrices[m].O) * tiles(matrices[m].I);
-  const memory::DeviceAccess launch;
-#pragma omp parallel for schedule(static) num_threads(detail::cpu_threads(exec))
-  for (int tile = 0; tile < first_tile[3]; ++tile) {
+  detail::for_each_cpu(exec, first_tile[3], [&](Index tile) {
     const int m = tile < first_tile[1] ? 0 : tile < first_tile[2] ? 1 : 2;
-    const int index = tile - first_tile[m], columns = tiles(matrices[m].I);
+    const int index = int(tile) - first_tile[m], columns = tiles(matrices[m].I);
     gradient_tile(matrices[m], count, (index / columns) * kTile, (index % columns) * kTile);
-  }
-}
-
-template <class Block>
-void for_each_block(const Exec& exec, Index count, const Block& block) {
-  const Index blocks = (count + kLanes - 1) / kLanes;
-  const memory::DeviceAccess launch;
-#pragma omp parallel for schedule(static) num_threads(detail::cpu_threads(exec))
-  for (Index b = 0; b < blocks; ++b) block(b * kLanes, int(count - b * kLanes < kLanes ? count - b * kLanes : kLanes));
+  });
 }
 
 // Threads per CUDA block of the per-particle law kernels: a training substep's thousand particles in 16
@@ -168,7 +158,7 @@ void run_blocks(const Exec& exec, Index count, const Work& work, const Block& bl
   if (exec.is_cuda()) {
     for_each<kLawThreadsPerBlock>(exec, count, work);
   } else {
-    for_each_block(exec, count, [&](Index begin, int lanes) { block(work, begin, lanes); });
+    detail::for_each_chunk_cpu(exec, count, kLanes, [&](Index begin, Index lanes) { block(work, begin, int(lanes)); });
   }
 }
 
