@@ -14,7 +14,8 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 case "$target" in
   formula) sources=(host/scene/expression.cpp); libraries=() ;;
   snapshot)
-    sources=(nn/snapshot_reader.cpp nn/snapshot_layout.cpp nn/hdf5_file.cpp nn/versioned_file.cpp)
+    sources=(nn/io/snapshot_reader.cpp nn/io/snapshot_layout.cpp nn/io/hdf5_file.cpp nn/io/versioned_file.cpp
+      nn/io/atomic_file.cpp)
     read -r -a libraries <<< "$(pkg-config --cflags --libs hdf5)" ;;
   *) echo "fuzz: unknown target '$target' (formula, snapshot)" >&2; exit 2 ;;
 esac

@@ -7,11 +7,11 @@
 
 #include <filesystem>
 
-#include "host/io/atomic_file.h"
 #include "host/nclaw/ground_truth.h"
 #include "host/nclaw/oracles.h"
 #include "host/run/interrupt.h"
 #include "kernels/core/error.h"
+#include "nn/io/atomic_file.h"
 #include "nn/nclaw/evaluation.h"
 #include "nn/nclaw/law_file.h"
 #include "nn/nclaw/law_trainer.h"

@@ -20,7 +20,7 @@
 #include "host/cli/train_rom_command.h"
 #include "host/scene/toml_reader.h"
 #include "kernels/core/error.h"
-#include "nn/hdf5_file.h"
+#include "nn/io/hdf5_file.h"
 
 int main(int argc, char** argv) {
   // A reader that closes the pipe (`romp info | head -1`) makes a write fail with EPIPE, an error romp
@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
   } catch (const romp::scene::SceneError& error) {
     spdlog::error("{}", error.what());
     return kExitInvalidInput;
-  } catch (const romp::hdf5::UnusableFileError& error) {
+  } catch (const romp::io::hdf5::UnusableFileError& error) {
     spdlog::error("{}", error.what());
     return kExitInvalidInput;
   } catch (const romp::NonFiniteError& error) {

@@ -7,7 +7,7 @@
 
 #include "host/scene/scene_parser.h"
 #include "kernels/core/error.h"
-#include "nn/snapshot_reader.h"
+#include "nn/io/snapshot_reader.h"
 
 namespace romp::nclaw {
 

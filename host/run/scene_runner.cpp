@@ -11,19 +11,19 @@
 
 #include "host/build_info.h"
 #include "host/engine/full_order_sim.h"
-#include "host/io/checkpoint.h"
-#include "host/io/io_worker.h"
-#include "host/io/obj_export.h"
-#include "host/io/output_lock.h"
-#include "host/io/snapshot_writer.h"
 #include "host/run/interrupt.h"
 #include "host/run/progress.h"
 #include "host/run/simulation.h"
 #include "host/scene/scene_setup.h"
 #include "host/scene/toml_reader.h"
 #include "kernels/core/memory.h"
-#include "nn/snapshot_layout.h"
-#include "nn/snapshot_reader.h"
+#include "nn/io/checkpoint.h"
+#include "nn/io/io_worker.h"
+#include "nn/io/obj_export.h"
+#include "nn/io/output_lock.h"
+#include "nn/io/snapshot_layout.h"
+#include "nn/io/snapshot_reader.h"
+#include "nn/io/snapshot_writer.h"
 
 namespace romp::run {
 namespace {

@@ -13,7 +13,7 @@
 #include "host/engine/sim_config.h"
 #include "kernels/core/exec.h"
 #include "kernels/mpm/particle_set.h"
-#include "nn/snapshot_layout.h"
+#include "nn/io/snapshot_layout.h"
 
 namespace romp::run {
 

@@ -19,12 +19,12 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "host/io/atomic_file.h"
 #include "host/run/interrupt.h"
 #include "host/run/process_rank.h"
 #include "host/scene/scene_parser.h"
 #include "host/scene/sweep.h"
 #include "host/scene/toml_reader.h"
+#include "nn/io/atomic_file.h"
 
 extern char** environ;
 

@@ -4,19 +4,19 @@
 #include <cmath>
 
 #include "kernels/core/error.h"
-#include "nn/versioned_file.h"
+#include "nn/io/versioned_file.h"
 
 namespace romp::nn {
 namespace {
 
 // A law file whose content is not a usable law: an invalid input (exit 3), like a damaged HDF5 file.
 void require(bool usable, const std::string& problem) {
-  if (!usable) throw hdf5::UnusableFileError(problem);
+  if (!usable) throw io::hdf5::UnusableFileError(problem);
 }
 
 constexpr const char* kActivation = "gelu";
 
-void write_network(hdf5::File& file, const std::string& group, const torch::nn::Module& network) {
+void write_network(io::hdf5::File& file, const std::string& group, const torch::nn::Module& network) {
   const std::vector<torch::Tensor> weights = network.parameters();
   for (size_t layer = 0; layer < weights.size(); ++layer) {
     const torch::Tensor w = weights[layer].detach().to(torch::kCPU, torch::kFloat64).contiguous();
@@ -25,7 +25,7 @@ void write_network(hdf5::File& file, const std::string& group, const torch::nn::
   }
 }
 
-void read_network(const hdf5::File& file, const std::string& group, torch::nn::Module& network) {
+void read_network(const io::hdf5::File& file, const std::string& group, torch::nn::Module& network) {
   torch::NoGradGuard no_grad;
   for (size_t layer = 0; layer < network.parameters().size(); ++layer) {
     torch::Tensor weight = network.parameters()[layer];
@@ -40,7 +40,7 @@ void read_network(const hdf5::File& file, const std::string& group, torch::nn::M
 }  // namespace
 
 void write_law_file(const std::string& path, const NeuralLaws& laws, const LawTrainingRecord& training) {
-  write_versioned_file(path, kLawFile, [&](hdf5::File& file) {
+  io::write_versioned_file(path, kLawFile, [&](io::hdf5::File& file) {
     file.write_attribute("inputs", kLawInputs);
     file.write_attribute("width", laws.elastic->parameters().front().size(0));
     file.write_attribute("outputs", kLawOutputs);
@@ -49,7 +49,7 @@ void write_law_file(const std::string& path, const NeuralLaws& laws, const LawTr
     write_network(file, "elastic", *laws.elastic);
     write_network(file, "plastic", *laws.plastic);
     {
-      hdf5::Group record = file.create_group("training");
+      io::hdf5::Group record = file.create_group("training");
       record.write_attribute("trajectory", training.trajectory);
       record.write_attribute("steps", training.steps);
       record.write_attribute("reconstruction_error", training.reconstruction_error);
@@ -59,7 +59,7 @@ void write_law_file(const std::string& path, const NeuralLaws& laws, const LawTr
 }
 
 LawFile read_law_file(const std::string& path) {
-  const hdf5::File file = open_versioned_file(path, kLawFile);
+  const io::hdf5::File file = io::open_versioned_file(path, kLawFile);
   const std::string& label = file.label();
   const int64_t inputs = file.read_int64_attribute("inputs"), outputs = file.read_int64_attribute("outputs");
   require(inputs == kLawInputs && outputs == kLawOutputs,
@@ -80,7 +80,7 @@ LawFile read_law_file(const std::string& path) {
   LawFile law{{ElasticLaw(), PlasticLaw(step)}, {}};
   read_network(file, "elastic", *law.laws.elastic);
   read_network(file, "plastic", *law.laws.plastic);
-  const hdf5::Group record = file.open_group("training");
+  const io::hdf5::Group record = file.open_group("training");
   law.training.trajectory = record.read_string_attribute("trajectory");
   law.training.steps = record.read_int64_attribute("steps");
   law.training.reconstruction_error = record.read_double_attribute("reconstruction_error");

@@ -2,10 +2,10 @@
 // scene parser checks of a law a scene names, without loading or evaluating its networks.
 #pragma once
 
-#include "nn/versioned_file.h"
+#include "nn/io/versioned_file.h"
 
 namespace romp::nn {
 
-inline constexpr FileFormat kLawFile{"neural law", "romp-neural-law", "a romp neural-law file", 1};
+inline constexpr io::FileFormat kLawFile{"neural law", "romp-neural-law", "a romp neural-law file", 1};
 
 }  // namespace romp::nn

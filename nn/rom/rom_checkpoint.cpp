@@ -4,13 +4,13 @@
 #include <fmt/format.h>
 
 #include "kernels/core/error.h"
+#include "nn/io/versioned_file.h"
 #include "nn/rom/rom_model_file.h"
-#include "nn/versioned_file.h"
 
 namespace romp::nn::rom {
 namespace {
 
-constexpr FileFormat kCheckpointFileFormat{"checkpoint", "romp-rom-checkpoint", "a ROM training checkpoint", 1};
+constexpr io::FileFormat kCheckpointFileFormat{"checkpoint", "romp-rom-checkpoint", "a ROM training checkpoint", 1};
 
 std::string moment_path(const char* which, std::size_t index) { return fmt::format("adam/{}/{:03}", which, index); }
 
@@ -19,9 +19,9 @@ std::string moment_path(const char* which, std::size_t index) { return fmt::form
 std::string rom_checkpoint_path(const std::string& model_path) { return model_path + ".checkpoint"; }
 
 void write_rom_checkpoint(const std::string& path, const RomModel& model, const Adam& adam) {
-  write_versioned_file(path, kCheckpointFileFormat, [&](hdf5::File& file) {
+  io::write_versioned_file(path, kCheckpointFileFormat, [&](io::hdf5::File& file) {
     file.write_attribute("adam_steps", adam.steps());
-    hdf5::Group group = file.create_group("model");
+    io::hdf5::Group group = file.create_group("model");
     write_model_groups(group, model);
     for (std::size_t i = 0; i < adam.first_moments().size(); ++i) {
       write_tensor(file, moment_path("first", i), adam.first_moments()[i]);
@@ -31,7 +31,7 @@ void write_rom_checkpoint(const std::string& path, const RomModel& model, const 
 }
 
 RomCheckpoint read_rom_checkpoint(const std::string& path, const torch::Device& device) {
-  const hdf5::File file = open_versioned_file(path, kCheckpointFileFormat);
+  const io::hdf5::File file = io::open_versioned_file(path, kCheckpointFileFormat);
   RomCheckpoint checkpoint;
   checkpoint.adam_steps = file.read_int64_attribute("adam_steps");
   if (checkpoint.adam_steps < 0) throw Error(file.label() + ": attribute /adam_steps is negative");

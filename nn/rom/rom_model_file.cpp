@@ -13,16 +13,16 @@ constexpr const char* kMapOutput = "standardised displacement";
 constexpr const char* kActivation = "elu";
 constexpr const char* kEncoderKind = "conv1d";
 
-std::string object_path(const hdf5::Group& group, const std::string& path) {
+std::string object_path(const io::hdf5::Group& group, const std::string& path) {
   if (!path.empty() && path[0] == '/') return path;
   return group.path() == "/" ? "/" + path : group.path() + "/" + path;
 }
 
-[[noreturn]] void invalid(const hdf5::Group& group, const std::string& what, const std::string& problem) {
+[[noreturn]] void invalid(const io::hdf5::Group& group, const std::string& what, const std::string& problem) {
   throw Error(group.label() + ": " + what + " " + object_path(group, "") + ": " + problem);
 }
 
-std::int64_t read_at_least(const hdf5::Group& group, const std::string& name, std::int64_t minimum) {
+std::int64_t read_at_least(const io::hdf5::Group& group, const std::string& name, std::int64_t minimum) {
   const std::int64_t value = group.read_int64_attribute(name);
   if (value < minimum) {
     throw Error(group.label() + ": attribute " + object_path(group, name) + ": " + std::to_string(value) +
@@ -31,7 +31,7 @@ std::int64_t read_at_least(const hdf5::Group& group, const std::string& name, st
   return value;
 }
 
-void expect_int(const hdf5::Group& group, const std::string& name, std::int64_t expected) {
+void expect_int(const io::hdf5::Group& group, const std::string& name, std::int64_t expected) {
   const std::int64_t value = group.read_int64_attribute(name);
   if (value != expected) {
     throw Error(group.label() + ": attribute " + object_path(group, name) + ": " + std::to_string(value) +
@@ -39,7 +39,7 @@ void expect_int(const hdf5::Group& group, const std::string& name, std::int64_t 
   }
 }
 
-void expect_string(const hdf5::Group& group, const std::string& name, const std::string& expected) {
+void expect_string(const io::hdf5::Group& group, const std::string& name, const std::string& expected) {
   const std::string value = group.read_string_attribute(name);
   if (value != expected) {
     throw Error(group.label() + ": attribute " + object_path(group, name) + ": \"" + value + "\", expected \"" +
@@ -47,27 +47,27 @@ void expect_string(const hdf5::Group& group, const std::string& name, const std:
   }
 }
 
-void write_affine(hdf5::Group& group, const std::string& name, const torch::Tensor& weight, const torch::Tensor& bias) {
+void write_affine(io::hdf5::Group& group, const std::string& name, const torch::Tensor& weight, const torch::Tensor& bias) {
   write_tensor(group, name + "/weight", weight);
   write_tensor(group, name + "/bias", bias);
 }
 
 // Copies a stored weight or bias of the shape `target` has into it.
-void load(const hdf5::Group& group, const std::string& path, const torch::Tensor& target) {
+void load(const io::hdf5::Group& group, const std::string& path, const torch::Tensor& target) {
   const torch::Tensor stored = read_tensor(group, path, target.sizes().vec());
   torch::NoGradGuard no_grad;
   target.copy_(stored);
 }
 
-void write_map(hdf5::Group& root, const DeformationMapImpl& map) {
+void write_map(io::hdf5::Group& root, const DeformationMapImpl& map) {
   const MapNormalisation n = map.normalisation();
-  hdf5::Group normalisation = root.create_group("normalisation");
+  io::hdf5::Group normalisation = root.create_group("normalisation");
   write_tensor(normalisation, "X_min", n.X_min);
   write_tensor(normalisation, "X_max", n.X_max);
   write_tensor(normalisation, "u_mean", n.u_mean);
   write_tensor(normalisation, "u_std", n.u_std);
 
-  hdf5::Group group = root.create_group("map");
+  io::hdf5::Group group = root.create_group("map");
   group.write_attribute("kind", map.is_linear() ? "linear" : "mlp");
   group.write_attribute("activation", kActivation);
   group.write_attribute("hidden_layers", map.architecture().hidden_layers);
@@ -78,8 +78,8 @@ void write_map(hdf5::Group& root, const DeformationMapImpl& map) {
     write_affine(group, "layer_" + std::to_string(k), map.layers()[k]->weight, map.layers()[k]->bias);
 }
 
-DeformationMap read_map(const hdf5::Group& root, std::int64_t latent) {
-  const hdf5::Group normalisation_group = root.open_group("normalisation");
+DeformationMap read_map(const io::hdf5::Group& root, std::int64_t latent) {
+  const io::hdf5::Group normalisation_group = root.open_group("normalisation");
   MapNormalisation n;
   n.X_min = read_tensor(normalisation_group, "X_min", {3});
   n.X_max = read_tensor(normalisation_group, "X_max", {3});
@@ -88,7 +88,7 @@ DeformationMap read_map(const hdf5::Group& root, std::int64_t latent) {
   const std::string problem = normalisation_problem(n);
   if (!problem.empty()) invalid(normalisation_group, "group", problem);
 
-  const hdf5::Group group = root.open_group("map");
+  const io::hdf5::Group group = root.open_group("map");
   const std::string kind = group.read_string_attribute("kind");
   if (kind != "mlp" && kind != "linear") invalid(group, "group", "kind \"" + kind + "\" is not mlp or linear");
   expect_string(group, "activation", kActivation);
@@ -109,9 +109,9 @@ DeformationMap read_map(const hdf5::Group& root, std::int64_t latent) {
   return map;
 }
 
-void write_encoder(hdf5::Group& root, const RomModel& model) {
+void write_encoder(io::hdf5::Group& root, const RomModel& model) {
   const EncoderImpl& encoder = *model.encoder;
-  hdf5::Group group = root.create_group("encoder");
+  io::hdf5::Group group = root.create_group("encoder");
   group.write_attribute("kind", kEncoderKind);
   group.write_attribute("activation", kActivation);
   group.write_attribute("points", encoder.points());
@@ -130,8 +130,8 @@ void write_encoder(hdf5::Group& root, const RomModel& model) {
 }
 
 // The encoder and its indices; returns the training snapshots' particle count.
-std::int64_t read_encoder(const hdf5::Group& root, RomModel& model) {
-  const hdf5::Group group = root.open_group("encoder");
+std::int64_t read_encoder(const io::hdf5::Group& root, RomModel& model) {
+  const io::hdf5::Group group = root.open_group("encoder");
   expect_string(group, "kind", kEncoderKind);
   expect_string(group, "activation", kActivation);
   expect_int(group, "kernel", kEncoderKernel);
@@ -163,20 +163,20 @@ std::int64_t read_encoder(const hdf5::Group& root, RomModel& model) {
   return particles;
 }
 
-void write_errors(hdf5::Group& group, const std::string& split, const ReconstructionErrors& errors) {
+void write_errors(io::hdf5::Group& group, const std::string& split, const ReconstructionErrors& errors) {
   group.write_attribute(split + "_position_error", errors.position);
   group.write_attribute(split + "_F_error", errors.F);
   group.write_attribute(split + "_velocity_error", errors.velocity);
 }
 
-ReconstructionErrors read_errors(const hdf5::Group& group, const std::string& split) {
+ReconstructionErrors read_errors(const io::hdf5::Group& group, const std::string& split) {
   return {group.read_double_attribute(split + "_position_error"), group.read_double_attribute(split + "_F_error"),
           group.read_double_attribute(split + "_velocity_error")};
 }
 
-void write_training(hdf5::Group& root, const TrainingRecord& record) {
+void write_training(io::hdf5::Group& root, const TrainingRecord& record) {
   const TrainingSettings& s = record.settings;
-  hdf5::Group group = root.create_group("training");
+  io::hdf5::Group group = root.create_group("training");
   group.write_attribute("sweep_dir", record.sweep_dir);
   group.write_attribute("parameter_names", record.parameter_names);
   group.write_attribute("epochs", s.epochs);
@@ -193,7 +193,7 @@ void write_training(hdf5::Group& root, const TrainingRecord& record) {
   write_errors(group, "train", record.train_errors);
   write_errors(group, "test", record.test_errors);
 
-  hdf5::Group members = group.create_group("members");
+  io::hdf5::Group members = group.create_group("members");
   const std::uint64_t m = record.members.size(), p = record.parameter_names.size();
   std::vector<std::int64_t> index;
   std::vector<std::int32_t> test;
@@ -211,8 +211,8 @@ void write_training(hdf5::Group& root, const TrainingRecord& record) {
   members.write_attribute("snapshots", snapshots);
 }
 
-TrainingRecord read_training(const hdf5::Group& root, const MapArchitecture& architecture) {
-  const hdf5::Group group = root.open_group("training");
+TrainingRecord read_training(const io::hdf5::Group& root, const MapArchitecture& architecture) {
+  const io::hdf5::Group group = root.open_group("training");
   TrainingRecord record;
   record.sweep_dir = group.read_string_attribute("sweep_dir");
   record.parameter_names = group.read_strings_attribute("parameter_names");
@@ -235,8 +235,8 @@ TrainingRecord read_training(const hdf5::Group& root, const MapArchitecture& arc
   record.train_errors = read_errors(group, "train");
   record.test_errors = read_errors(group, "test");
 
-  const hdf5::Group members = group.open_group("members");
-  const hdf5::Shape index_shape = members.dataset_shape("index");
+  const io::hdf5::Group members = group.open_group("members");
+  const io::hdf5::Shape index_shape = members.dataset_shape("index");
   if (index_shape.size() != 1) invalid(members, "group", "index must be one-dimensional");
   const std::uint64_t m = index_shape[0], p = record.parameter_names.size();
   const std::vector<std::int64_t> index = members.read_dataset<std::int64_t>("index", {m});
@@ -253,21 +253,21 @@ TrainingRecord read_training(const hdf5::Group& root, const MapArchitecture& arc
 
 }  // namespace
 
-void write_tensor(hdf5::Group& group, const std::string& path, const torch::Tensor& tensor) {
+void write_tensor(io::hdf5::Group& group, const std::string& path, const torch::Tensor& tensor) {
   const torch::Tensor values = tensor.detach().to(torch::kCPU, torch::kFloat32).contiguous();
-  const hdf5::Shape shape(values.sizes().begin(), values.sizes().end());
+  const io::hdf5::Shape shape(values.sizes().begin(), values.sizes().end());
   group.write_dataset(path, shape, values.data_ptr<float>());
 }
 
-torch::Tensor read_tensor(const hdf5::Group& group, const std::string& path, const std::vector<std::int64_t>& shape) {
-  std::vector<float> values = group.read_dataset<float>(path, hdf5::Shape(shape.begin(), shape.end()));
+torch::Tensor read_tensor(const io::hdf5::Group& group, const std::string& path, const std::vector<std::int64_t>& shape) {
+  std::vector<float> values = group.read_dataset<float>(path, io::hdf5::Shape(shape.begin(), shape.end()));
   for (float value : values) {
     if (!std::isfinite(value)) throw Error(group.label() + ": dataset " + object_path(group, path) + ": not finite");
   }
   return torch::from_blob(values.data(), shape, torch::kFloat32).clone();
 }
 
-void write_model_groups(hdf5::Group& root, const RomModel& model) {
+void write_model_groups(io::hdf5::Group& root, const RomModel& model) {
   root.write_attribute("romp_version", model.training.romp_version);
   root.write_attribute("commit", model.training.commit);
   root.write_attribute("latent", model.map->architecture().latent);
@@ -276,7 +276,7 @@ void write_model_groups(hdf5::Group& root, const RomModel& model) {
   write_training(root, model.training);
 }
 
-RomModel read_model_groups(const hdf5::Group& root, const torch::Device& device) {
+RomModel read_model_groups(const io::hdf5::Group& root, const torch::Device& device) {
   RomModel model;
   const std::int64_t latent = read_at_least(root, "latent", 1);
   model.map = read_map(root, latent);
@@ -290,11 +290,11 @@ RomModel read_model_groups(const hdf5::Group& root, const torch::Device& device)
 }
 
 void write_rom_model(const std::string& path, const RomModel& model) {
-  write_versioned_file(path, kRomModelFileFormat, [&](hdf5::File& file) { write_model_groups(file, model); });
+  io::write_versioned_file(path, kRomModelFileFormat, [&](io::hdf5::File& file) { write_model_groups(file, model); });
 }
 
 RomModel read_rom_model(const std::string& path, const torch::Device& device) {
-  return read_model_groups(open_versioned_file(path, kRomModelFileFormat), device);
+  return read_model_groups(io::open_versioned_file(path, kRomModelFileFormat), device);
 }
 
 }  // namespace romp::nn::rom

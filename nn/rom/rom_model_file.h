@@ -32,13 +32,13 @@
 #include <cstdint>
 #include <string>
 
-#include "nn/hdf5_file.h"
+#include "nn/io/hdf5_file.h"
+#include "nn/io/versioned_file.h"
 #include "nn/rom/rom_model.h"
-#include "nn/versioned_file.h"
 
 namespace romp::nn::rom {
 
-inline constexpr FileFormat kRomModelFileFormat{"model", "romp-rom-model", "a romp ROM model", 1};
+inline constexpr io::FileFormat kRomModelFileFormat{"model", "romp-rom-model", "a romp ROM model", 1};
 
 // Written to "<path>.partial" and renamed to `path` once complete, so a model file is never half written.
 void write_rom_model(const std::string& path, const RomModel& model);
@@ -47,11 +47,11 @@ RomModel read_rom_model(const std::string& path, const torch::Device& device = t
 
 // The groups below the root attributes format and format_version, into or from `root` (a checkpoint keeps a
 // model under /model).
-void write_model_groups(hdf5::Group& root, const RomModel& model);
-RomModel read_model_groups(const hdf5::Group& root, const torch::Device& device);
+void write_model_groups(io::hdf5::Group& root, const RomModel& model);
+RomModel read_model_groups(const io::hdf5::Group& root, const torch::Device& device);
 
 // A float32 copy of `tensor` as a dataset of its shape, and back (checked for shape and finite values).
-void write_tensor(hdf5::Group& group, const std::string& path, const torch::Tensor& tensor);
-torch::Tensor read_tensor(const hdf5::Group& group, const std::string& path, const std::vector<std::int64_t>& shape);
+void write_tensor(io::hdf5::Group& group, const std::string& path, const torch::Tensor& tensor);
+torch::Tensor read_tensor(const io::hdf5::Group& group, const std::string& path, const std::vector<std::int64_t>& shape);
 
 }  // namespace romp::nn::rom

@@ -4,7 +4,7 @@
 #include <fmt/format.h>
 
 #include "kernels/core/error.h"
-#include "nn/snapshot_reader.h"
+#include "nn/io/snapshot_reader.h"
 
 namespace romp::nn::rom {
 namespace {

@@ -1,5 +1,5 @@
 // The fields ROM training reads from a romp snapshot file, as tensors: the snapshot reader's frames
-// (nn/snapshot_reader.h) turned from the engine's planes into per-particle rows.
+// (nn/io/snapshot_reader.h) turned from the engine's planes into per-particle rows.
 #pragma once
 
 #include <torch/torch.h>

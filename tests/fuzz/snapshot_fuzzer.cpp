@@ -1,4 +1,4 @@
-// libFuzzer harness: the snapshot reader (nn/snapshot_reader.h) on arbitrary bytes as a file, reading
+// libFuzzer harness: the snapshot reader (nn/io/snapshot_reader.h) on arbitrary bytes as a file, reading
 // the header and every frame as `romp run --compare`, `--output-points` and `train-rom` do. Any input
 // must either read or throw romp::Error; a crash (in romp or in libhdf5) is a bug.
 #include <unistd.h>
@@ -9,7 +9,7 @@
 #include <string>
 
 #include "kernels/core/error.h"
-#include "nn/snapshot_reader.h"
+#include "nn/io/snapshot_reader.h"
 
 namespace {
 

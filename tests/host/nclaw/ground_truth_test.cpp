@@ -13,9 +13,9 @@
 #include "host/run/scene_runner.h"
 #include "host/scene/scene_parser.h"
 #include "kernels/core/error.h"
-#include "nn/hdf5_file.h"
-#include "nn/snapshot_layout.h"
 #include "nn/diffmpm/rollout.h"
+#include "nn/io/hdf5_file.h"
+#include "nn/io/snapshot_layout.h"
 #include "nn/nclaw/fixed_corotated.h"
 #include "tests/support/scratch_folder.h"
 
@@ -108,9 +108,9 @@ TEST(GroundTruth, PositionsOutsideTheDomainOrNotFiniteAreRefused) {
   const auto corrupted = [&](std::int64_t frame, const std::string& field, std::int64_t row, float value) {
     const std::string path = folder.file("corrupted.h5");
     fs::copy_file(clean, path, fs::copy_options::overwrite_existing);
-    hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadWrite, "snapshot");
+    io::hdf5::File file = io::hdf5::File::open(path, io::hdf5::Mode::ReadWrite, "snapshot");
     const std::string dataset = io::frame_group_name(frame) + "/" + field;
-    const hdf5::Shape shape = file.dataset_shape(dataset);
+    const io::hdf5::Shape shape = file.dataset_shape(dataset);
     std::vector<float> values = file.read_dataset<float>(dataset, shape);
     values[std::size_t(row * std::int64_t(shape[1]) + 1)] = value;  // its second component
     file.remove(dataset);

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "host/io/snapshot_writer.h"
 #include "kernels/core/error.h"
+#include "nn/io/snapshot_writer.h"
 #include "tests/support/scratch_folder.h"
 
 namespace romp::run {

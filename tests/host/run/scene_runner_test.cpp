@@ -11,13 +11,13 @@
 #include <vector>
 
 #include "host/engine/full_order_sim.h"
-#include "host/io/output_lock.h"
-#include "host/io/snapshot_writer.h"
 #include "host/scene/scene_parser.h"
 #include "host/scene/toml_reader.h"
-#include "nn/hdf5_file.h"
-#include "nn/snapshot_layout.h"
-#include "nn/snapshot_reader.h"
+#include "nn/io/hdf5_file.h"
+#include "nn/io/output_lock.h"
+#include "nn/io/snapshot_layout.h"
+#include "nn/io/snapshot_reader.h"
+#include "nn/io/snapshot_writer.h"
 #include "tests/host/rom_test_maps.h"
 #include "tests/support/scratch_folder.h"
 
@@ -224,8 +224,8 @@ TEST_F(SceneRunner, OutputPointsOutsideTheDomainOrNotFiniteAreRefused) {
   run_scene(Exec::cpu(), scene, reference);
   for (const float bad : {std::nanf(""), 2.0f}) {
     {
-      hdf5::File file = hdf5::File::open(reference.output, hdf5::Mode::ReadWrite, "snapshot");
-      const hdf5::Shape shape = file.dataset_shape("particles/X");
+      io::hdf5::File file = io::hdf5::File::open(reference.output, io::hdf5::Mode::ReadWrite, "snapshot");
+      const io::hdf5::Shape shape = file.dataset_shape("particles/X");
       std::vector<float> X = file.read_dataset<float>("particles/X", shape);
       X[3 * 17 + 1] = bad;  // point 17's y
       file.remove("particles/X");

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "nn/snapshot_reader.h"
+#include "nn/io/snapshot_reader.h"
 #include "tests/support/scratch_folder.h"
 
 namespace romp::run {

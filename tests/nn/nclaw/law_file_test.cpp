@@ -6,7 +6,7 @@
 #include <string>
 
 #include "kernels/core/error.h"
-#include "nn/hdf5_file.h"
+#include "nn/io/hdf5_file.h"
 #include "nn/nclaw/law_file.h"
 #include "tests/support/scratch_folder.h"
 
@@ -15,12 +15,12 @@ namespace {
 
 NeuralLaws random_laws() { return seeded_laws(7, torch::kFloat32); }
 
-// The message of the hdf5::UnusableFileError (an invalid input: romp exits 3) that reading `path` throws ("" when
+// The message of the io::hdf5::UnusableFileError (an invalid input: romp exits 3) that reading `path` throws ("" when
 // it reads); any other error escapes and fails the test.
 std::string read_error(const std::string& path) {
   try {
     read_law_file(path);
-  } catch (const hdf5::UnusableFileError& error) {
+  } catch (const io::hdf5::UnusableFileError& error) {
     return error.what();
   }
   return "";
@@ -51,21 +51,21 @@ TEST(LawFile, RejectsDamagedFilesNamingWhatIsWrong) {
 
   EXPECT_NE(read_error(folder.write("text.h5", "not HDF5")).find("text.h5"), std::string::npos);
   {
-    hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadWrite, "neural law");
+    io::hdf5::File file = io::hdf5::File::open(path, io::hdf5::Mode::ReadWrite, "neural law");
     file.write_attribute("width", std::int64_t(0));
   }
   EXPECT_NE(read_error(path).find("width is 0, allowed only 64"), std::string::npos) << read_error(path);
 
   write_law_file(path, random_laws(), {"gt.h5", 10, {1.0}, 0.0});
   {
-    hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadWrite, "neural law");
+    io::hdf5::File file = io::hdf5::File::open(path, io::hdf5::Mode::ReadWrite, "neural law");
     file.remove("plastic/weight_1");
   }
   EXPECT_NE(read_error(path).find("/plastic/weight_1"), std::string::npos) << read_error(path);
 
   write_law_file(path, random_laws(), {"gt.h5", 10, {1.0}, 0.0});
   {
-    hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadWrite, "neural law");
+    io::hdf5::File file = io::hdf5::File::open(path, io::hdf5::Mode::ReadWrite, "neural law");
     std::vector<double> weights(9 * 64, 0.0);
     weights[5] = std::nan("");
     file.remove("elastic/weight_2");
@@ -76,10 +76,10 @@ TEST(LawFile, RejectsDamagedFilesNamingWhatIsWrong) {
 
   write_law_file(path, random_laws(), {"gt.h5", 10, {1.0}, 0.0});
   {
-    hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadWrite, "neural law");
+    io::hdf5::File file = io::hdf5::File::open(path, io::hdf5::Mode::ReadWrite, "neural law");
     file.write_attribute("format", "romp-snapshot");
   }
-  EXPECT_NE(read_error(path).find("root attribute format is not \"romp-neural-law\""), std::string::npos)
+  EXPECT_NE(read_error(path).find("root attribute format is \"romp-snapshot\", expected \"romp-neural-law\""), std::string::npos)
       << read_error(path);
 }
 

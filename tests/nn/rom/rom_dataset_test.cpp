@@ -7,7 +7,7 @@
 #include <fstream>
 #include <string>
 
-#include "nn/hdf5_file.h"
+#include "nn/io/hdf5_file.h"
 #include "tests/nn/rom/twisted_bar.h"
 #include "tests/support/scratch_folder.h"
 
@@ -70,7 +70,7 @@ TEST(RomDataset, SnapshotWithoutDeformationGradientsIsRejectedNamingIt) {
   bar.frames = 2;
   bar.write(folder.path());
   {
-    hdf5::File file = hdf5::File::open(folder.file("member_000001.h5"), hdf5::Mode::ReadWrite, "snapshot");
+    io::hdf5::File file = io::hdf5::File::open(folder.file("member_000001.h5"), io::hdf5::Mode::ReadWrite, "snapshot");
     file.write_attribute("fields", std::vector<std::string>{"x", "v"});
   }
   const std::string message = test::error_message([&] { load_rom_dataset(folder.path().string(), {}); });

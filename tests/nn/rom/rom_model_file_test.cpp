@@ -7,7 +7,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "nn/hdf5_file.h"
+#include "nn/io/hdf5_file.h"
 #include "nn/rom/rom_checkpoint.h"
 #include "tests/support/scratch_folder.h"
 
@@ -48,7 +48,7 @@ class RomModelFile : public ::testing::Test {
   template <class Edit>
   std::string error_after(Edit&& edit) {
     {
-      hdf5::File file = hdf5::File::open(path_, hdf5::Mode::ReadWrite, "model");
+      io::hdf5::File file = io::hdf5::File::open(path_, io::hdf5::Mode::ReadWrite, "model");
       edit(file);
     }
     return test::error_message([&] { read_rom_model(path_); });
@@ -62,7 +62,8 @@ TEST_F(RomModelFile, RoundTripGivesIdenticalOutputsAndRecord) {
   for (std::int64_t hidden_layers : {5, 0}) {
     const RomModel written = small_model(hidden_layers);
     write_rom_model(path_, written);
-    EXPECT_FALSE(std::filesystem::exists(path_ + ".partial"));
+    // Written atomically: the model, and no temporary beside it.
+    EXPECT_EQ(folder_.contents(), std::vector<std::string>{"model.h5"});
     const RomModel read = read_rom_model(path_);
 
     torch::manual_seed(5);
@@ -89,13 +90,13 @@ TEST_F(RomModelFile, RoundTripGivesIdenticalOutputsAndRecord) {
 }
 
 TEST_F(RomModelFile, MissingWeightIsRejectedNamingFileAndDataset) {
-  const std::string message = error_after([](hdf5::File& file) { file.remove("/map/layer_2/weight"); });
+  const std::string message = error_after([](io::hdf5::File& file) { file.remove("/map/layer_2/weight"); });
   EXPECT_NE(message.find(path_), std::string::npos) << message;
   EXPECT_NE(message.find("/map/layer_2/weight"), std::string::npos) << message;
 }
 
 TEST_F(RomModelFile, WeightOfWrongShapeIsRejected) {
-  const std::string message = error_after([](hdf5::File& file) {
+  const std::string message = error_after([](io::hdf5::File& file) {
     file.remove("/map/layer_3/weight");
     file.write_dataset("/map/layer_3/weight", {30, 31}, std::vector<float>(30 * 31, 0.0f));
   });
@@ -105,7 +106,7 @@ TEST_F(RomModelFile, WeightOfWrongShapeIsRejected) {
 }
 
 TEST_F(RomModelFile, NonFiniteWeightIsRejected) {
-  const std::string message = error_after([](hdf5::File& file) {
+  const std::string message = error_after([](io::hdf5::File& file) {
     std::vector<float> bias(2, 0.0f);  // r = 2
     bias[1] = std::nanf("");
     file.remove("/encoder/linear_1/bias");
@@ -115,8 +116,8 @@ TEST_F(RomModelFile, NonFiniteWeightIsRejected) {
 }
 
 TEST_F(RomModelFile, InconsistentArchitectureIsRejected) {
-  const std::string message = error_after([](hdf5::File& file) {
-    hdf5::Group map = file.open_group("map");
+  const std::string message = error_after([](io::hdf5::File& file) {
+    io::hdf5::Group map = file.open_group("map");
     map.write_attribute("kind", "linear");
   });
   EXPECT_NE(message.find(path_), std::string::npos) << message;
