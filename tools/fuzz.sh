@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds one libFuzzer harness of tests/fuzz with clang (ASan and UBSan on) and runs it.
 #   tools/fuzz.sh TARGET WORK_DIR [libFuzzer options...]
-# TARGET: formula (the scene formula evaluator) or snapshot (the snapshot reader and libhdf5 under it).
+# TARGET: formula (the scene formula evaluator), snapshot (the snapshot reader and libhdf5 under it) or
+# checkpoint (the run checkpoint reader of --resume).
 # The run starts from the seed corpus tests/fuzz/corpus/TARGET (read only) and keeps what it finds in
 # WORK_DIR/TARGET-corpus; a crash is written to WORK_DIR as crash-* and makes the script fail. ctest runs
 # each target for a fixed count of executions from a fixed seed (deterministic); for a longer hunt:
@@ -13,11 +14,12 @@ shift 2
 root="$(cd "$(dirname "$0")/.." && pwd)"
 case "$target" in
   formula) sources=(host/scene/expression.cpp); libraries=() ;;
-  snapshot)
-    sources=(nn/io/snapshot_reader.cpp nn/io/snapshot_layout.cpp nn/io/hdf5_file.cpp nn/io/versioned_file.cpp
-      nn/io/atomic_file.cpp)
+  snapshot | checkpoint)
+    # The reader and the HDF5 layer under it (nn/io).
+    sources=(nn/io/snapshot_layout.cpp nn/io/hdf5_file.cpp nn/io/versioned_file.cpp nn/io/atomic_file.cpp)
+    [ "$target" = snapshot ] && sources+=(nn/io/snapshot_reader.cpp) || sources+=(nn/io/checkpoint.cpp)
     read -r -a libraries <<< "$(pkg-config --cflags --libs hdf5)" ;;
-  *) echo "fuzz: unknown target '$target' (formula, snapshot)" >&2; exit 2 ;;
+  *) echo "fuzz: unknown target '$target' (formula, snapshot, checkpoint)" >&2; exit 2 ;;
 esac
 # ROMP_FUZZ_FRESH=1 (ctest): start from the seeds alone, so that a run is the same every time.
 [ "${ROMP_FUZZ_FRESH:-0}" = 1 ] && rm -rf "$work/$target-corpus"

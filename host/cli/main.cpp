@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
   } catch (const romp::scene::SceneError& error) {
     spdlog::error("{}", error.what());
     return kExitInvalidInput;
-  } catch (const romp::io::hdf5::UnusableFileError& error) {
+  } catch (const romp::io::UnusableFileError& error) {
     spdlog::error("{}", error.what());
     return kExitInvalidInput;
   } catch (const romp::NonFiniteError& error) {

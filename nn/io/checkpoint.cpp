@@ -18,7 +18,7 @@ namespace {
 void require_finite(const hdf5::File& file, const char* name, const std::vector<float>& values) {
   const auto bad = std::find_if(values.begin(), values.end(), [](float value) { return !std::isfinite(value); });
   if (bad != values.end()) {
-    throw hdf5::UnusableFileError(fmt::format("{}: dataset /{}: value {} of {} is {}: not a state to resume from",
+    throw UnusableFileError(fmt::format("{}: dataset /{}: value {} of {} is {}: not a state to resume from",
                                               file.label(), name, bad - values.begin(), values.size(), *bad));
   }
 }
@@ -59,7 +59,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
 Checkpoint read_checkpoint(const std::string& path) {
   const hdf5::File file = open_versioned_file(path, kCheckpointFile);
   const std::int64_t n = file.read_int64_attribute("particle_count");
-  if (n < 0) throw hdf5::UnusableFileError(fmt::format("{}: particle_count {} is negative", file.label(), n));
+  if (n < 0) throw UnusableFileError(fmt::format("{}: particle_count {} is negative", file.label(), n));
   Checkpoint checkpoint;
   checkpoint.frame = file.read_int64_attribute("frame");
   checkpoint.state.time = file.read_double_attribute("time");
@@ -73,14 +73,14 @@ Checkpoint read_checkpoint(const std::string& path) {
   // A run writes a checkpoint only after a finite frame: anything else is not a state to resume from.
   if (!std::isfinite(checkpoint.state.time) || checkpoint.state.time < 0.0 || checkpoint.frame < 0 ||
       checkpoint.state.step < 0) {
-    throw hdf5::UnusableFileError(fmt::format("{}: time {}, frame {}, step {}: not a state a run writes",
+    throw UnusableFileError(fmt::format("{}: time {}, frame {}, step {}: not a state a run writes",
                                               file.label(), checkpoint.state.time, checkpoint.frame,
                                               checkpoint.state.step));
   }
   if (file.is_dataset("corner_x")) {
     const hdf5::Shape shape = file.dataset_shape("corner_x");
     if (shape.size() != 2 || shape[0] != 3)
-      throw hdf5::UnusableFileError(fmt::format("{}: corner_x must be [3, corners]", file.label()));
+      throw UnusableFileError(fmt::format("{}: corner_x must be [3, corners]", file.label()));
     checkpoint.corner_x = file.read_dataset<float>("corner_x", shape);
     require_finite(file, "corner_x", checkpoint.corner_x);
     checkpoint.particle_domain = file.read_dataset<std::int32_t>("particle_domain", {std::uint64_t(n)});

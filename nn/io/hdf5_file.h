@@ -10,16 +10,9 @@
 #include <vector>
 
 #include "kernels/core/error.h"
+#include "nn/io/unusable_file_error.h"
 
 namespace romp::io::hdf5 {
-
-// A file whose content cannot be used: not HDF5, or an object missing or of the wrong kind, type or
-// shape, or damaged (a checksum fails on reading). The input's fault, not the machine's: the romp
-// command exits 3 for it (README "Exit codes"). Failures to create or write a file stay romp::Error.
-class UnusableFileError : public Error {
- public:
-  using Error::Error;
-};
 
 // Dataset dimensions, slowest-varying first (row-major, as HDF5, h5py and ParaView read them).
 using Shape = std::vector<std::uint64_t>;

@@ -7,18 +7,18 @@
 
 namespace romp::io {
 
-// What is wrong with the file's content is an invalid input (hdf5::UnusableFileError: romp exits 3), as
+// What is wrong with the file's content is an invalid input (UnusableFileError: romp exits 3), as
 // damage to the file is. A run's .partial file may be open for writing meanwhile: the writer flushes after
 // each frame and raises frame_count last, so the frames below it read whole.
 SnapshotReader::SnapshotReader(const std::string& path) : file_(open_versioned_file(path, kSnapshotFile)) {
   const std::int64_t n = file_.read_int64_attribute("particle_count");
-  if (n < 0) throw hdf5::UnusableFileError(fmt::format("{}: particle_count {} is negative", file_.label(), n));
+  if (n < 0) throw UnusableFileError(fmt::format("{}: particle_count {} is negative", file_.label(), n));
   const std::uint64_t count = std::uint64_t(n);
   const std::vector<std::string> field_list = file_.read_strings_attribute("fields");
   try {
     fields_ = parse_fields(field_list);
   } catch (const Error& error) {
-    throw hdf5::UnusableFileError(file_.label() + ": attribute /fields: " + error.what());
+    throw UnusableFileError(file_.label() + ": attribute /fields: " + error.what());
   }
 
   header_.romp_version = file_.read_string_attribute("romp_version");
@@ -27,7 +27,7 @@ SnapshotReader::SnapshotReader(const std::string& path) : file_(open_versioned_f
   header_.parameter_names = file_.read_strings_attribute("parameter_names");
   header_.parameter_values = file_.read_doubles_attribute("parameter_values");
   if (header_.parameter_names.size() != header_.parameter_values.size()) {
-    throw hdf5::UnusableFileError(fmt::format("{}: {} parameter_names but {} parameter_values", file_.label(),
+    throw UnusableFileError(fmt::format("{}: {} parameter_names but {} parameter_values", file_.label(),
                                               header_.parameter_names.size(), header_.parameter_values.size()));
   }
   header_.X = rows_to_planes(file_.read_dataset<float>("/particles/X", {count, 3}), 3);
@@ -37,7 +37,7 @@ SnapshotReader::SnapshotReader(const std::string& path) : file_(open_versioned_f
 
   const std::int64_t frames = file_.read_int64_attribute("frame_count");
   if (frames < 0 || frames > kMaxFrames) {
-    throw hdf5::UnusableFileError(fmt::format("{}: frame_count {} is outside [0, {}]", file_.label(), frames, kMaxFrames));
+    throw UnusableFileError(fmt::format("{}: frame_count {} is outside [0, {}]", file_.label(), frames, kMaxFrames));
   }
   times_.reserve(std::size_t(frames));
   steps_.reserve(std::size_t(frames));

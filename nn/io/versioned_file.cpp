@@ -10,17 +10,17 @@ namespace romp::io {
 hdf5::File open_versioned_file(const std::string& path, const FileFormat& format) {
   hdf5::File file = hdf5::File::open(path, hdf5::Mode::ReadOnly, format.role);
   if (!file.has_attribute("format")) {
-    throw hdf5::UnusableFileError(
+    throw UnusableFileError(
         fmt::format("{}: not {}: root attribute format is missing", file.label(), format.description));
   }
   const std::string name = file.read_string_attribute("format");
   if (name != format.name) {
-    throw hdf5::UnusableFileError(fmt::format("{}: not {}: root attribute format is \"{}\", expected \"{}\"",
+    throw UnusableFileError(fmt::format("{}: not {}: root attribute format is \"{}\", expected \"{}\"",
                                               file.label(), format.description, name, format.name));
   }
   const std::int64_t version = file.read_int64_attribute("format_version");
   if (version < 1 || version > format.version) {
-    throw hdf5::UnusableFileError(fmt::format("{}: format_version {} is not one this romp reads (1 .. {}){}",
+    throw UnusableFileError(fmt::format("{}: format_version {} is not one this romp reads (1 .. {}){}",
                                               file.label(), version, format.version,
                                               version > format.version ? "; a newer romp wrote it" : ""));
   }

@@ -18,7 +18,7 @@ struct FileFormat {
 };
 
 // Opens `path` read-only. A missing file or one that is not HDF5 throws romp::Error naming it; a file of
-// another format (or none) or of a format_version outside 1 .. format.version throws hdf5::UnusableFileError.
+// another format (or none) or of a format_version outside 1 .. format.version throws UnusableFileError.
 hdf5::File open_versioned_file(const std::string& path, const FileFormat& format);
 
 // Writes the root attributes format and format_version to an open file being created.

@@ -11,7 +11,7 @@ namespace {
 
 // A law file whose content is not a usable law: an invalid input (exit 3), like a damaged HDF5 file.
 void require(bool usable, const std::string& problem) {
-  if (!usable) throw io::hdf5::UnusableFileError(problem);
+  if (!usable) throw io::UnusableFileError(problem);
 }
 
 constexpr const char* kActivation = "gelu";

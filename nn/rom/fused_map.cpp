@@ -21,15 +21,15 @@ void append(std::vector<float>& values, const torch::Tensor& t) {
 
 }  // namespace
 
-::romp::rom::DeformationMapWeights fused_weights(const DeformationMapImpl& map) {
+romp::rom::DeformationMapWeights fused_weights(const DeformationMapImpl& map) {
   const MapArchitecture& a = map.architecture();
-  ROMP_CHECK(a.latent >= 1 && a.latent <= ::romp::rom::kMaxMapLatent,
-             "the fused evaluator takes r <= " + std::to_string(::romp::rom::kMaxMapLatent) + ", the map has " +
+  ROMP_CHECK(a.latent >= 1 && a.latent <= romp::rom::kMaxMapLatent,
+             "the fused evaluator takes r <= " + std::to_string(romp::rom::kMaxMapLatent) + ", the map has " +
                  std::to_string(a.latent));
-  ROMP_CHECK(a.hidden_layers <= ::romp::rom::kMaxMapHiddenLayers && a.width <= ::romp::rom::kMaxMapWidth,
-             "the fused evaluator takes up to " + std::to_string(::romp::rom::kMaxMapHiddenLayers) +
-                 " hidden layers of up to " + std::to_string(::romp::rom::kMaxMapWidth) + " units");
-  ::romp::rom::DeformationMapWeights weights;
+  ROMP_CHECK(a.hidden_layers <= romp::rom::kMaxMapHiddenLayers && a.width <= romp::rom::kMaxMapWidth,
+             "the fused evaluator takes up to " + std::to_string(romp::rom::kMaxMapHiddenLayers) +
+                 " hidden layers of up to " + std::to_string(romp::rom::kMaxMapWidth) + " units");
+  romp::rom::DeformationMapWeights weights;
   weights.latent = int(a.latent);
   weights.hidden_layers = int(a.hidden_layers);
   weights.width = int(a.width);

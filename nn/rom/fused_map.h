@@ -8,6 +8,6 @@
 namespace romp::nn::rom {
 
 // Throws romp::Error when the map exceeds the fused kernel's limits (kernels/rom/deformation_map_eval.h).
-::romp::rom::DeformationMapWeights fused_weights(const DeformationMapImpl& map);
+romp::rom::DeformationMapWeights fused_weights(const DeformationMapImpl& map);
 
 }  // namespace romp::nn::rom

@@ -34,7 +34,7 @@ RomCheckpoint read_rom_checkpoint(const std::string& path, const torch::Device& 
   const io::hdf5::File file = io::open_versioned_file(path, kCheckpointFileFormat);
   RomCheckpoint checkpoint;
   checkpoint.adam_steps = file.read_int64_attribute("adam_steps");
-  if (checkpoint.adam_steps < 0) throw Error(file.label() + ": attribute /adam_steps is negative");
+  if (checkpoint.adam_steps < 0) throw io::UnusableFileError(file.label() + ": attribute /adam_steps is negative");
   checkpoint.model = read_model_groups(file.open_group("model"), device);
   const std::vector<torch::Tensor> parameters = checkpoint.model.parameters();
   for (std::size_t i = 0; i < parameters.size(); ++i) {

@@ -19,13 +19,13 @@ std::string object_path(const io::hdf5::Group& group, const std::string& path) {
 }
 
 [[noreturn]] void invalid(const io::hdf5::Group& group, const std::string& what, const std::string& problem) {
-  throw Error(group.label() + ": " + what + " " + object_path(group, "") + ": " + problem);
+  throw io::UnusableFileError(group.label() + ": " + what + " " + object_path(group, "") + ": " + problem);
 }
 
 std::int64_t read_at_least(const io::hdf5::Group& group, const std::string& name, std::int64_t minimum) {
   const std::int64_t value = group.read_int64_attribute(name);
   if (value < minimum) {
-    throw Error(group.label() + ": attribute " + object_path(group, name) + ": " + std::to_string(value) +
+    throw io::UnusableFileError(group.label() + ": attribute " + object_path(group, name) + ": " + std::to_string(value) +
                 " is below " + std::to_string(minimum));
   }
   return value;
@@ -34,7 +34,7 @@ std::int64_t read_at_least(const io::hdf5::Group& group, const std::string& name
 void expect_int(const io::hdf5::Group& group, const std::string& name, std::int64_t expected) {
   const std::int64_t value = group.read_int64_attribute(name);
   if (value != expected) {
-    throw Error(group.label() + ": attribute " + object_path(group, name) + ": " + std::to_string(value) +
+    throw io::UnusableFileError(group.label() + ": attribute " + object_path(group, name) + ": " + std::to_string(value) +
                 ", expected " + std::to_string(expected));
   }
 }
@@ -42,7 +42,7 @@ void expect_int(const io::hdf5::Group& group, const std::string& name, std::int6
 void expect_string(const io::hdf5::Group& group, const std::string& name, const std::string& expected) {
   const std::string value = group.read_string_attribute(name);
   if (value != expected) {
-    throw Error(group.label() + ": attribute " + object_path(group, name) + ": \"" + value + "\", expected \"" +
+    throw io::UnusableFileError(group.label() + ": attribute " + object_path(group, name) + ": \"" + value + "\", expected \"" +
                 expected + "\"");
   }
 }
@@ -262,7 +262,7 @@ void write_tensor(io::hdf5::Group& group, const std::string& path, const torch::
 torch::Tensor read_tensor(const io::hdf5::Group& group, const std::string& path, const std::vector<std::int64_t>& shape) {
   std::vector<float> values = group.read_dataset<float>(path, io::hdf5::Shape(shape.begin(), shape.end()));
   for (float value : values) {
-    if (!std::isfinite(value)) throw Error(group.label() + ": dataset " + object_path(group, path) + ": not finite");
+    if (!std::isfinite(value)) throw io::UnusableFileError(group.label() + ": dataset " + object_path(group, path) + ": not finite");
   }
   return torch::from_blob(values.data(), shape, torch::kFloat32).clone();
 }

@@ -2,7 +2,7 @@
 # A damaged or foreign HDF5 input (the reference snapshot of `romp run --compare`, a learned law of `--law`, a
 # reduced-order model of `--rom`) makes romp exit 3 (invalid input) with a message naming the file: a flipped
 # byte in its data or metadata (checksums), a truncated file, a text file, a file of another kind. Never exit
-# 0, never a crash.
+# 0, never a crash. A sweep manifest of the wrong form or content, for `train-rom`, likewise.
 set -uo pipefail
 romp="$1"
 work="$(mktemp -d)"
@@ -46,3 +46,19 @@ for input in "--law jelly=$work/reference.h5" "--law jelly=$work/truncated.h5" "
   grep -qF "$work/" "$work/log" || fail "$input: the message does not name the file"
 done
 echo "foreign and damaged law and model files: exit 3 each"
+
+# A sweep folder for train-rom whose manifest is not one romp sweep writes: not JSON, of another format,
+# listing no members, or a member whose snapshot is the damaged file.
+sweep="$work/sweep"
+mkdir -p "$sweep"
+member='{"index": 0, "values": {}, "split": "train", "snapshot": "../flipped.h5"}'
+for manifest in '{' '{"format": "romp-model", "format_version": 1}' \
+    '{"format": "romp-sweep", "format_version": 1, "parameters": [], "members": []}' \
+    "{\"format\": \"romp-sweep\", \"format_version\": 1, \"parameters\": [], \"members\": [$member]}"; do
+  printf '%s' "$manifest" > "$sweep/manifest.json"
+  "$romp" --device cpu --threads 1 train-rom "$sweep" -o "$work/model.h5" --epochs 1 > "$work/log" 2>&1
+  code=$?
+  [ "$code" -eq 3 ] || fail "train-rom, manifest $manifest: exit code $code, expected 3"
+  grep -qF "$sweep" "$work/log" || fail "train-rom, manifest $manifest: the message does not name the sweep"
+done
+echo "unusable sweep manifests: exit 3 each"

@@ -74,7 +74,7 @@ TEST_F(CheckpointFile, NonFiniteValuesAreRefused) {
   try {
     read_checkpoint(path);
     ADD_FAILURE() << "no error";
-  } catch (const io::hdf5::UnusableFileError& error) {
+  } catch (const io::UnusableFileError& error) {
     EXPECT_EQ(std::string(error.what()),
               "checkpoint " + path + ": dataset /v: value 7 of 30 is nan: not a state to resume from");
   }

@@ -15,12 +15,12 @@ namespace {
 
 NeuralLaws random_laws() { return seeded_laws(7, torch::kFloat32); }
 
-// The message of the io::hdf5::UnusableFileError (an invalid input: romp exits 3) that reading `path` throws ("" when
+// The message of the io::UnusableFileError (an invalid input: romp exits 3) that reading `path` throws ("" when
 // it reads); any other error escapes and fails the test.
 std::string read_error(const std::string& path) {
   try {
     read_law_file(path);
-  } catch (const io::hdf5::UnusableFileError& error) {
+  } catch (const io::UnusableFileError& error) {
     return error.what();
   }
   return "";

@@ -35,15 +35,15 @@ void expect_agreement(const MapArchitecture& architecture) {
   const ManifoldJacobians reference =
       manifold_jacobians(*map, xhat.expand({n, r}), X, DerivativeMethod::Analytic, false);
 
-  const ::romp::rom::DeformationMapWeights weights = fused_weights(*map);
+  const romp::rom::DeformationMapWeights weights = fused_weights(*map);
   const Exec exec = Exec::cpu();
   const auto parameters = DeviceBuffer<float>::from_host(Backend::Cpu, weights.parameters);
   const torch::Tensor X_planes = X.t().contiguous();
   const torch::Tensor xhat_values = xhat.squeeze(0).contiguous();
   torch::Tensor x = torch::empty({3, n}), F = torch::empty({9, n}), dg = torch::empty({3 * r, n});
-  const ::romp::rom::DeformationMapView<float> view =
-      ::romp::rom::map_view(weights, Span<const float>(parameters.data(), parameters.size()));
-  ::romp::rom::evaluate_deformation_map<float>(
+  const romp::rom::DeformationMapView<float> view =
+      romp::rom::map_view(weights, Span<const float>(parameters.data(), parameters.size()));
+  romp::rom::evaluate_deformation_map<float>(
       exec, view, Span<const float>(xhat_values.data_ptr<float>(), r),
       Vec3Planes<const float>(X_planes.data_ptr<float>(), n),
       {Vec3Planes<float>(x.data_ptr<float>(), n), Mat3Planes<float>(F.data_ptr<float>(), n),

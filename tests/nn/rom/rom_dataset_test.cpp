@@ -73,7 +73,7 @@ TEST(RomDataset, SnapshotWithoutDeformationGradientsIsRejectedNamingIt) {
     io::hdf5::File file = io::hdf5::File::open(folder.file("member_000001.h5"), io::hdf5::Mode::ReadWrite, "snapshot");
     file.write_attribute("fields", std::vector<std::string>{"x", "v"});
   }
-  const std::string message = test::error_message([&] { load_rom_dataset(folder.path().string(), {}); });
+  const std::string message = test::error_message<io::UnusableFileError>([&] { load_rom_dataset(folder.path().string(), {}); });
   EXPECT_NE(message.find("member_000001.h5"), std::string::npos) << message;
   EXPECT_NE(message.find("lacks \"F\""), std::string::npos) << message;
 }
@@ -86,14 +86,35 @@ TEST(RomDataset, ADeeplyNestedMemberIsRefusedByItsPlace) {
   std::ofstream(folder.file("manifest.json"))
       << R"({"format": "romp-sweep", "format_version": 1, "parameters": ["a"], "members": [)"
       << std::string(depth, '[') << std::string(depth, ']') << "]}";
-  const std::string message = test::error_message([&] { load_rom_dataset(folder.path().string(), {}); });
+  const std::string message = test::error_message<io::UnusableFileError>([&] { load_rom_dataset(folder.path().string(), {}); });
   EXPECT_NE(message.find("manifest.json: members[0] (a JSON array)"), std::string::npos) << message;
   EXPECT_LT(message.size(), 500u) << "the error quotes the member";
 }
 
+// Every manifest no sweep could have written is an unusable input (romp exits 3), named by what is wrong.
+TEST(RomDataset, ManifestsOfTheWrongFormOrContentAreUnusableInputs) {
+  const std::string head = R"({"format": "romp-sweep", "format_version": 1, "parameters": ["a"], )";
+  const std::pair<std::string, std::string> cases[] = {
+      {"{", "not valid JSON"},
+      {R"({"format": "romp-snapshot", "format_version": 1})", "format is not \"romp-sweep\""},
+      {R"({"format": "romp-sweep", "format_version": 99})", "format_version 99"},
+      {head + R"("members": []})", "lists no members"},
+      {head + R"("members": [{"index": 0, "values": {"a": 1}, "split": "both", "snapshot": "m.h5"}]})",
+       "members[0] (a JSON object): split is \"both\""},
+      {head + R"("members": [{"index": 0, "values": {}, "split": "train", "snapshot": "m.h5"}]})", "members[0]"},
+  };
+  for (const auto& [manifest, expected] : cases) {
+    const test::ScratchFolder folder;
+    folder.write("manifest.json", manifest);
+    const std::string message =
+        test::error_message<io::UnusableFileError>([&] { load_rom_dataset(folder.path().string(), {}); });
+    EXPECT_NE(message.find(expected), std::string::npos) << manifest << "\n" << message;
+  }
+}
+
 TEST(RomDataset, FolderWithoutManifestIsRejected) {
   const test::ScratchFolder folder;
-  const std::string message = test::error_message([&] { load_rom_dataset(folder.path().string(), {}); });
+  const std::string message = test::error_message<io::UnusableFileError>([&] { load_rom_dataset(folder.path().string(), {}); });
   EXPECT_NE(message.find("no manifest.json"), std::string::npos) << message;
   EXPECT_NE(message.find(folder.path().string()), std::string::npos) << message;
 }

@@ -44,14 +44,14 @@ class RomModelFile : public ::testing::Test {
  protected:
   void SetUp() override { write_rom_model(path_, small_model(5)); }
 
-  // Applies `edit` to the written file, then returns the error reading it gives.
+  // Applies `edit` to the written file, then returns the error reading it gives: an unusable file (exit 3).
   template <class Edit>
   std::string error_after(Edit&& edit) {
     {
       io::hdf5::File file = io::hdf5::File::open(path_, io::hdf5::Mode::ReadWrite, "model");
       edit(file);
     }
-    return test::error_message([&] { read_rom_model(path_); });
+    return test::error_message<io::UnusableFileError>([&] { read_rom_model(path_); });
   }
 
   test::ScratchFolder folder_;

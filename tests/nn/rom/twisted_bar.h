@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "host/io/snapshot_writer.h"
+#include "nn/io/snapshot_writer.h"
 
 namespace romp::test {
 
