@@ -28,9 +28,9 @@ void run_law_suite(Context& context) {
       if (!exec.is_cuda()) torch::set_num_threads(exec.threads);
       const torch::TensorOptions options = torch::TensorOptions().device(nn::torch_device(exec));
       torch::manual_seed(0);
-      nn::ElasticLaw law;
+      nn::nclaw::ElasticLaw law;
       law->to(options.device());
-      const nn::LawParameters& w = law->weights();
+      const nn::nclaw::LawParameters& w = law->weights();
       const torch::Tensor F =
           (torch::eye(3, options).reshape({9, 1}) + 0.2 * torch::randn({9, n}, options)).requires_grad_(true);
       const torch::Tensor upstream = torch::randn({9, n}, options);
@@ -43,11 +43,11 @@ void run_law_suite(Context& context) {
       const auto both = [&](auto law_function) {
         (law_function(F, w, 1.0, false) * upstream).sum().backward();
       };
-      const auto fused = [](const torch::Tensor& f, const nn::LawParameters& p, double s, bool a) {
-        return nn::fused_law(f, p, s, a);
+      const auto fused = [](const torch::Tensor& f, const nn::nclaw::LawParameters& p, double s, bool a) {
+        return nn::nclaw::fused_law(f, p, s, a);
       };
-      const auto composed = [](const torch::Tensor& f, const nn::LawParameters& p, double s, bool a) {
-        return nn::composed_law(f, p, s, a);
+      const auto composed = [](const torch::Tensor& f, const nn::nclaw::LawParameters& p, double s, bool a) {
+        return nn::nclaw::composed_law(f, p, s, a);
       };
       // context.time returns a reference into a vector that the next measurement may move: keep copies.
       const Measurement fused_forward = context.time("law", "fused_forward_" + size, exec, n, "particle",

@@ -32,16 +32,16 @@ void run_train_suite(Context& context) {
   const Index steps = context.scaled(kEpochSteps, 10);
   const int64_t n = p.count();
 
-  const nn::DiffMpmConfig config = nclaw::differentiable_config(scene, "bench train");
+  const nn::diffmpm::DiffMpmConfig config = nclaw::differentiable_config(scene, "bench train");
   const torch::Tensor mass = tensor_of(p.mass, 1).flatten(), volume = tensor_of(p.volume0, 1).flatten();
-  const nn::MpmState initial{tensor_of(p.x, 3), tensor_of(p.v, 3), torch::zeros({9, n}),
+  const nn::diffmpm::MpmState initial{tensor_of(p.x, 3), tensor_of(p.v, 3), torch::zeros({9, n}),
                              torch::eye(3).reshape({9, 1}).expand({9, n}).contiguous()};
   const scene::MaterialSpecification& jelly = scene.materials.front();
   const torch::Tensor youngs = torch::tensor(float(jelly.youngs_modulus)),
                       poisson = torch::tensor(float(jelly.poissons_ratio));
-  const nn::ConstitutiveLaws truth_law{
-      [&](const torch::Tensor& F) { return nn::fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
-  const nn::Trajectory truth = nn::simulate(nn::DiffMpm(config, mass, volume), initial, truth_law, steps);
+  const nn::diffmpm::ConstitutiveLaws truth_law{
+      [&](const torch::Tensor& F) { return nn::nclaw::fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
+  const nn::nclaw::Trajectory truth = nn::nclaw::simulate(nn::diffmpm::DiffMpm(config, mass, volume), initial, truth_law, steps);
 
   for (const Exec& exec : context.execs()) {
     if (exec.is_cuda() && !torch::cuda::is_available()) {
@@ -53,10 +53,10 @@ void run_train_suite(Context& context) {
       omp_set_num_threads(exec.threads);
       torch::set_num_threads(exec.threads);
     }
-    nn::TrainingOptions options;
+    nn::nclaw::TrainingOptions options;
     options.steps = steps;
-    nn::LawTrainer trainer(config, truth.to(nn::torch_device(exec), torch::kFloat32), options);
-    nn::EpochReport last;
+    nn::nclaw::LawTrainer trainer(config, truth.to(nn::torch_device(exec), torch::kFloat32), options);
+    nn::nclaw::EpochReport last;
     const Measurement epoch = context.time(
         "train", "epoch_jelly_cube", exec, steps, "substep (forward + backward)", [&] { last = trainer.train_epoch(); },
         0.0, fmt::format("{} particles, {} substeps per epoch, both neural laws", n, steps));

@@ -74,18 +74,18 @@ namespace {
 // The oracles: fits that know the ground truth's pairs or its model (host/nclaw/oracles.h).
 int run_oracle(const nclaw::GroundTruth& truth, const LearnLawOptions& options) {
   if (options.method == "labeled") {
-    nn::SupervisedOptions supervised;
+    nn::nclaw::SupervisedOptions supervised;
     supervised.epochs = options.epochs;
-    const nn::LawFile fitted = nclaw::fit_labeled_oracle(truth, options.trajectory, supervised, options.pair_stride,
+    const nn::nclaw::LawFile fitted = nclaw::fit_labeled_oracle(truth, options.trajectory, supervised, options.pair_stride,
                                                          options.seed);
-    nn::write_law_file(options.output, fitted.laws, fitted.training);
+    nn::nclaw::write_law_file(options.output, fitted.laws, fitted.training);
     spdlog::info("wrote {} (labeled oracle, {} epochs: relative stress error {:.3g} -> {:.3g}); reconstruction "
                  "error {:.4g} m^2",
                  options.output, options.epochs, fitted.training.loss.front(), fitted.training.loss.back(),
                  fitted.training.reconstruction_error);
     return 0;
   }
-  nn::SystemIdentificationOptions identification;
+  nn::nclaw::SystemIdentificationOptions identification;
   identification.epochs = options.epochs;
   identification.steps = options.steps;
   identification.initial_youngs = options.initial_youngs;
@@ -101,7 +101,7 @@ int run_oracle(const nclaw::GroundTruth& truth, const LearnLawOptions& options) 
                   "every {} frames of a free rollout)\n[materials.identified]\nmodel = \"fixed-corotated\"\n"
                   "density = {}\nyoungs_modulus = {:.8g}\npoissons_ratio = {:.8g}\n",
                   options.trajectory, options.epochs, options.initial_youngs, options.initial_poisson,
-                  found.reconstruction_error, nn::kEvaluationFrameStride,
+                  found.reconstruction_error, nn::nclaw::kEvaluationFrameStride,
                   truth.materials.front().density, found.youngs_modulus, found.poissons_ratio));
   spdlog::info("wrote {}: E = {:.6g} Pa, nu = {:.6g}; reconstruction error {:.4g} m^2", options.output,
                found.youngs_modulus, found.poissons_ratio, found.reconstruction_error);
@@ -117,9 +117,9 @@ int learn_law_command(DeviceChoice choice, int threads, const LearnLawOptions& o
                                                " file, got " + options.output);
   // Checked before training, not after it: every method ends by measuring the reconstruction error
   // every kEvaluationFrameStride frames of a rollout of --steps substeps.
-  if (options.steps < nn::kEvaluationFrameStride)
+  if (options.steps < nn::nclaw::kEvaluationFrameStride)
     throw CLI::ValidationError("--steps", "the reconstruction error is measured every " +
-                                              std::to_string(nn::kEvaluationFrameStride) +
+                                              std::to_string(nn::nclaw::kEvaluationFrameStride) +
                                               " substeps, so --steps must be at least that, got " +
                                               std::to_string(options.steps));
   const Exec exec = select_backend(choice, threads);
@@ -136,7 +136,7 @@ int learn_law_command(DeviceChoice choice, int threads, const LearnLawOptions& o
   // The oracles are comparison points, run where the trajectory is read: on the CPU.
   if (options.method != "motion") return run_oracle(truth, options);
   const torch::Device device = nn::torch_device(exec);
-  nn::TrainingOptions training;
+  nn::nclaw::TrainingOptions training;
   training.epochs = options.epochs;
   training.steps = options.steps;
   training.checkpoint_every = options.checkpoint_every;
@@ -144,7 +144,7 @@ int learn_law_command(DeviceChoice choice, int threads, const LearnLawOptions& o
   training.teacher_forcing_first = options.teacher_forcing_first;
   training.teacher_forcing_last = options.teacher_forcing_last;
   training.velocity_weight = options.velocity_weight;
-  nn::LawTrainer trainer(truth.config, truth.trajectory.to(device, torch::kFloat32), training);
+  nn::nclaw::LawTrainer trainer(truth.config, truth.trajectory.to(device, torch::kFloat32), training);
 
   const std::string checkpoint = options.output + ".checkpoint";
   if (options.resume) {
@@ -160,7 +160,7 @@ int learn_law_command(DeviceChoice choice, int threads, const LearnLawOptions& o
   const int64_t first_epoch = trainer.epochs_done();  // the ETA counts only this process's epochs
   double seconds_so_far = 0.0;
   while (!trainer.finished()) {
-    const nn::EpochReport r = trainer.train_epoch();
+    const nn::nclaw::EpochReport r = trainer.train_epoch();
     trainer.save_checkpoint(checkpoint);
     seconds_so_far += r.seconds;
     const double eta = seconds_so_far / double(r.epoch + 1 - first_epoch) * double(training.epochs - r.epoch - 1);
@@ -176,11 +176,11 @@ int learn_law_command(DeviceChoice choice, int threads, const LearnLawOptions& o
     }
   }
   const double reconstruction = trainer.reconstruction_error();
-  nn::write_law_file(options.output, trainer.laws(),
+  nn::nclaw::write_law_file(options.output, trainer.laws(),
                      {options.trajectory, training.steps, trainer.losses(), reconstruction});
   std::filesystem::remove(checkpoint);
   spdlog::info("wrote {}; reconstruction error (mean position MSE every {} frames of a free rollout) {:.4g} m^2",
-               options.output, nn::kEvaluationFrameStride, reconstruction);
+               options.output, nn::nclaw::kEvaluationFrameStride, reconstruction);
   return 0;
 }
 

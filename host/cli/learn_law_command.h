@@ -18,7 +18,7 @@ struct LearnLawOptions {
   int64_t checkpoint_every = 0;
   uint64_t seed = 0;
   bool resume = false;
-  // The teacher-forcing period's cosine schedule (substeps) and the velocity penalty: nn::TrainingOptions.
+  // The teacher-forcing period's cosine schedule (substeps) and the velocity penalty: nn::nclaw::TrainingOptions.
   int64_t teacher_forcing_first = 25, teacher_forcing_last = 200;
   double velocity_weight = 0.0;
   // "motion" (the method), or an oracle of host/nclaw/oracles.h: "labeled" writes a law file,

@@ -9,7 +9,7 @@ namespace romp {
 namespace {
 
 // The float weights of a law's network, where the kernels read them (exec's device).
-nclaw::LawWeights<float> weights_of(const nn::LawParameters& parameters, const Exec& exec) {
+nclaw::LawWeights<float> weights_of(const nn::nclaw::LawParameters& parameters, const Exec& exec) {
   return {nn::as_span<const float>(parameters.input, exec, "law input weight").data(),
           nn::as_span<const float>(parameters.hidden, exec, "law hidden weight").data(),
           nn::as_span<const float>(parameters.output, exec, "law output weight").data()};
@@ -21,7 +21,7 @@ NeuralMaterials::NeuralMaterials(const Exec& exec, const std::vector<MaterialSpe
   for (std::size_t m = 0; m < materials.size(); ++m) {
     if (materials[m].params.model != material::MaterialModel::Neural) continue;
     ROMP_CHECK(!materials[m].neural_law.empty(), "material " + std::to_string(m) + " is neural but names no law file");
-    nn::NeuralLaws laws = nn::read_law_file(materials[m].neural_law).laws;
+    nn::nclaw::NeuralLaws laws = nn::nclaw::read_law_file(materials[m].neural_law).laws;
     // On the engine's stream, so that its kernels find the weights in place without a synchronisation.
     const nn::TorchStreamScope stream(exec);
     laws.to(nn::torch_device(exec), torch::kFloat32);
@@ -47,7 +47,7 @@ void NeuralMaterials::project_plasticity(const Exec& exec, const mpm::ParticleVi
                                          const mpm::StepParams& step) {
   const Mat3Planes<float> F = particles.F;
   for (const MaterialLaw& law : laws_) {
-    const nn::PlasticLaw& plastic = law.laws.plastic;
+    const nn::nclaw::PlasticLaw& plastic = law.laws.plastic;
     nclaw::law_forward<float>(exec, weights_of(plastic->weights(), exec), {float(plastic->step()), true}, F, F,
                               {particles.material.data(), law.material, particles.dirichlet_group.data()});
   }

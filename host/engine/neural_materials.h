@@ -40,7 +40,7 @@ class NeuralMaterials {
  private:
   struct MaterialLaw {
     std::int32_t material;  // index into the material table
-    nn::NeuralLaws laws;
+    nn::nclaw::NeuralLaws laws;
   };
   std::vector<MaterialLaw> laws_;
   DeviceBuffer<float> stress_;  // 9 planes

@@ -11,7 +11,7 @@
 
 namespace romp::nclaw {
 
-nn::DiffMpmConfig differentiable_config(const scene::Scene& s, const std::string& label) {
+nn::diffmpm::DiffMpmConfig differentiable_config(const scene::Scene& s, const std::string& label) {
   const auto require = [&](bool condition, const std::string& what) {
     if (!condition) throw Error(fmt::format("{}: its scene {}; the differentiable step cannot reproduce it", label, what));
   };
@@ -20,7 +20,7 @@ nn::DiffMpmConfig differentiable_config(const scene::Scene& s, const std::string
   require(s.wall_friction == 0.0, "has wall friction " + std::to_string(s.wall_friction) + ", not 0");
   require(s.colliders.empty() && s.dirichlet.empty() && s.pokes.empty(),
           "has colliders, Dirichlet groups or pokes");
-  nn::DiffMpmConfig config;
+  nn::diffmpm::DiffMpmConfig config;
   config.dt = s.fixed_dt;
   config.dx = s.dx;
   for (int a = 0; a < 3; ++a) {
@@ -50,7 +50,7 @@ torch::Tensor from_vector(const std::vector<float>& values) {
 // Every value of `frame` finite and every position inside the domain's interior, [dx, cells dx − dx] per
 // axis, where the differentiable step's stencil stays on its dense grid: a position outside (or NaN)
 // would index nodes the grid does not have.
-void check_frame(const io::FrameData& frame, int64_t k, const nn::DiffMpmConfig& config, const std::string& label) {
+void check_frame(const io::FrameData& frame, int64_t k, const nn::diffmpm::DiffMpmConfig& config, const std::string& label) {
   const std::size_t n = frame.x.size() / 3;
   for (const io::FieldMask field : {io::kFieldV, io::kFieldF, io::kFieldC}) {
     const std::vector<float>& values = frame.field(field);
@@ -98,7 +98,7 @@ GroundTruth read_ground_truth(const std::string& path, int64_t last_frame) {
     data.push_back(reader.read_frame(k));
     check_frame(data.back(), k, truth.config, label);
   }
-  nn::Trajectory& t = truth.trajectory;
+  nn::nclaw::Trajectory& t = truth.trajectory;
   t.mass = from_vector(reader.header().mass);
   t.volume = from_vector(reader.header().volume0);
   t.x = stack_field(data, io::kFieldX, 3);

@@ -11,15 +11,15 @@
 namespace romp::nclaw {
 
 struct GroundTruth {
-  nn::DiffMpmConfig config;     // the snapshot's scene: grid, dt, gravity, walls
-  nn::Trajectory trajectory;    // float32 on the CPU, frames 0 .. last
+  nn::diffmpm::DiffMpmConfig config;     // the snapshot's scene: grid, dt, gravity, walls
+  nn::nclaw::Trajectory trajectory;    // float32 on the CPU, frames 0 .. last
   std::vector<scene::MaterialSpecification> materials;  // the scene's, for the oracles that know them
 };
 
 // The differentiable step's constants for `scene`: grid, dt, gravity, walls. The scene must be one
 // the step reproduces: a fixed dt, APIC transfers, frictionless walls and no colliders, Dirichlet
 // groups or pokes; otherwise a romp::Error that starts with `label` says which.
-nn::DiffMpmConfig differentiable_config(const scene::Scene& scene, const std::string& label);
+nn::diffmpm::DiffMpmConfig differentiable_config(const scene::Scene& scene, const std::string& label);
 
 // Reads frames 0 .. `last_frame` (all frames when negative) of the snapshot at `path`. The scene
 // stored in it must pass differentiable_config, with one frame per substep, and every frame must

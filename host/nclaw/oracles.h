@@ -19,8 +19,8 @@ namespace romp::nclaw {
 // purely elastic material the plastic law is the identity (its output layer zero), which is what
 // it should learn. The trajectory must come from a scene of one material. The record's loss is the
 // elastic fit's, and its reconstruction error is the free rollout's on the trajectory.
-nn::LawFile fit_labeled_oracle(const GroundTruth& truth, const std::string& trajectory_file,
-                               const nn::SupervisedOptions& options, int64_t stride, uint64_t seed);
+nn::nclaw::LawFile fit_labeled_oracle(const GroundTruth& truth, const std::string& trajectory_file,
+                               const nn::nclaw::SupervisedOptions& options, int64_t stride, uint64_t seed);
 
 struct IdentifiedMaterial {
   double youngs_modulus = 0.0;  // Pa
@@ -34,7 +34,7 @@ struct IdentifiedMaterial {
 // trajectory's one material is fixed corotated (the jelly), the only model this oracle fits.
 // `progress`, when given, hears each epoch's loss and the parameters after its step.
 using IdentificationProgress = std::function<void(int64_t epoch, double loss, double youngs, double poisson)>;
-IdentifiedMaterial identify_material(const GroundTruth& truth, const nn::SystemIdentificationOptions& options,
+IdentifiedMaterial identify_material(const GroundTruth& truth, const nn::nclaw::SystemIdentificationOptions& options,
                                      const IdentificationProgress& progress = {});
 
 }  // namespace romp::nclaw

@@ -23,7 +23,7 @@ scene::MaterialSpecification nclaw_preset(NclawMaterial which);
 // for a neural material, the law file and its stiffness at rest (neural_law_at_rest).
 MaterialSpec to_material_spec(const scene::MaterialSpecification& material);
 
-// μ and λ of a law file's elastic law linearised at F = I (nn::rest_stiffness), for the CFL
+// μ and λ of a law file's elastic law linearised at F = I (nn::nclaw::rest_stiffness), for the CFL
 // condition. Throws romp::Error naming the file when it is not a law file or its law does not
 // resist compression at rest.
 material::Lame<float> neural_law_at_rest(const std::string& law_file);

@@ -221,7 +221,7 @@ MaterialSpecification read_material(TableReader t, const std::string& name, cons
     // That it is a law file of a version this romp reads; its networks are loaded and checked where the
     // run is set up (to_material_spec), so that parsing (`romp check`) runs no network.
     try {
-      io::open_versioned_file(m.neural_law, nn::kLawFile);
+      io::open_versioned_file(m.neural_law, nn::nclaw::kLawFile);
     } catch (const Error& error) {
       t.fail("neural", error.what());
     }

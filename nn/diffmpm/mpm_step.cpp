@@ -8,7 +8,7 @@
 #include "kernels/diffmpm/diff_step.h"
 #include "nn/tensor_bridge.h"
 
-namespace romp::nn {
+namespace romp::nn::diffmpm {
 namespace {
 
 using torch::autograd::AutogradContext;
@@ -22,8 +22,8 @@ struct ConfigCapsule : torch::CustomClassHolder {
 };
 
 template <class T>
-diffmpm::StepParams<T> step_params(const DiffMpmConfig& config) {
-  diffmpm::StepParams<T> params;
+romp::diffmpm::StepParams<T> step_params(const DiffMpmConfig& config) {
+  romp::diffmpm::StepParams<T> params;
   params.dt = T(config.dt);
   params.dx = T(config.dx);
   params.gravity = Vec3<T>(T(config.gravity[0]), T(config.gravity[1]), T(config.gravity[2]));
@@ -54,7 +54,7 @@ Mat3Planes<T> matrices(const torch::Tensor& tensor, const Exec& exec, const std:
 
 // Kernel views of the step's inputs: x, v, C, F, P, mass, volume (contiguous, checked).
 template <class T>
-diffmpm::ParticleInputs<T> particle_inputs(const variable_list& in, const Exec& exec) {
+romp::diffmpm::ParticleInputs<T> particle_inputs(const variable_list& in, const Exec& exec) {
   return {in[5].size(0),
           vectors<const T>(in[0], exec, "x"),
           vectors<const T>(in[1], exec, "v"),
@@ -66,7 +66,7 @@ diffmpm::ParticleInputs<T> particle_inputs(const variable_list& in, const Exec& 
 }
 
 torch::Tensor grid_scratch(const DiffMpmConfig& config, const torch::Tensor& like) {
-  return torch::empty({diffmpm::kDenseGridPlanes * diffmpm::dense_grid_nodes(config.cells.data())}, like.options());
+  return torch::empty({romp::diffmpm::kDenseGridPlanes * romp::diffmpm::dense_grid_nodes(config.cells.data())}, like.options());
 }
 
 class MpmStepFunction : public torch::autograd::Function<MpmStepFunction> {
@@ -85,9 +85,9 @@ class MpmStepFunction : public torch::autograd::Function<MpmStepFunction> {
       using T = decltype(scalar);
       const Exec exec = exec_for(mass);
       torch::Tensor scratch = grid_scratch(config, mass);
-      diffmpm::step_forward(exec, step_params<T>(config), particle_inputs<T>(in, exec),
+      romp::diffmpm::step_forward(exec, step_params<T>(config), particle_inputs<T>(in, exec),
                             as_span<T>(scratch, exec, "grid"),
-                            diffmpm::StateView<T>{vectors<T>(out[0], exec, "x'"), vectors<T>(out[1], exec, "v'"),
+                            romp::diffmpm::StateView<T>{vectors<T>(out[0], exec, "x'"), vectors<T>(out[1], exec, "v'"),
                                                   matrices<T>(out[2], exec, "C'"), matrices<T>(out[3], exec, "F'")});
     });
     ctx->saved_data["config"] = c10::IValue::make_capsule(capsule);
@@ -112,14 +112,14 @@ class MpmStepFunction : public torch::autograd::Function<MpmStepFunction> {
       using T = decltype(scalar);
       const Exec exec = exec_for(mass);
       torch::Tensor scratch = grid_scratch(config, mass);
-      const diffmpm::StateView<const T> out_adjoint{
+      const romp::diffmpm::StateView<const T> out_adjoint{
           vectors<const T>(out_gradients[0], exec, "dL/dx'"), vectors<const T>(out_gradients[1], exec, "dL/dv'"),
           matrices<const T>(out_gradients[2], exec, "dL/dC'"), matrices<const T>(out_gradients[3], exec, "dL/dF'")};
-      const diffmpm::InputAdjoints<T> in_adjoint{
+      const romp::diffmpm::InputAdjoints<T> in_adjoint{
           vectors<T>(in_gradients[0], exec, "dL/dx"), vectors<T>(in_gradients[1], exec, "dL/dv"),
           matrices<T>(in_gradients[2], exec, "dL/dC"), matrices<T>(in_gradients[3], exec, "dL/dF"),
           matrices<T>(in_gradients[4], exec, "dL/dP")};
-      diffmpm::step_backward(exec, step_params<T>(config), particle_inputs<T>(in, exec),
+      romp::diffmpm::step_backward(exec, step_params<T>(config), particle_inputs<T>(in, exec),
                              as_span<T>(scratch, exec, "grid"), out_adjoint, in_adjoint);
     });
     return {torch::Tensor(), in_gradients[0], in_gradients[1], in_gradients[2], in_gradients[3], in_gradients[4],
@@ -151,4 +151,4 @@ MpmState DiffMpm::step(const MpmState& state, const torch::Tensor& P) const {
   return {out[0], out[1], out[2], out[3]};
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::diffmpm

@@ -11,7 +11,7 @@
 
 #include "kernels/mpm/contact.h"
 
-namespace romp::nn {
+namespace romp::nn::diffmpm {
 
 // The state a rollout carries from step to step: x, v [3, n]; C (APIC affine velocity), F (elastic
 // deformation gradient) [9, n].
@@ -49,4 +49,4 @@ class DiffMpm {
   torch::Tensor mass_, volume_;
 };
 
-}  // namespace romp::nn
+}  // namespace romp::nn::diffmpm

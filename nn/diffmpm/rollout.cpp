@@ -6,7 +6,7 @@
 
 #include "kernels/core/error.h"
 
-namespace romp::nn {
+namespace romp::nn::diffmpm {
 namespace {
 
 using torch::autograd::AutogradContext;
@@ -103,4 +103,4 @@ Rollout rollout(const DiffMpm& sim, const MpmState& initial, const ConstitutiveL
   return {torch::cat(positions), torch::cat(velocities), state};
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::diffmpm

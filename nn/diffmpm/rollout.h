@@ -8,7 +8,7 @@
 
 #include "nn/diffmpm/mpm_step.h"
 
-namespace romp::nn {
+namespace romp::nn::diffmpm {
 
 // The constitutive laws of a rollout (Ma et al. 2023, Alg. 2): P = elastic(F) before each substep,
 // F = plastic(F_trial) after it. Both map [9, n] planes to [9, n] planes.
@@ -39,4 +39,4 @@ struct Rollout {
 Rollout rollout(const DiffMpm& sim, const MpmState& initial, const ConstitutiveLaws& laws,
                 const RolloutOptions& options);
 
-}  // namespace romp::nn
+}  // namespace romp::nn::diffmpm

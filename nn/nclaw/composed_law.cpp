@@ -3,7 +3,7 @@
 
 #include "nn/nclaw/features.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 torch::Tensor composed_law(const torch::Tensor& F, const LawParameters& w, double scale, bool adds_input) {
   const StretchRotation polar = stretch_and_rotation(F);
@@ -14,4 +14,4 @@ torch::Tensor composed_law(const torch::Tensor& F, const LawParameters& w, doubl
   return adds_input ? F + Y : Y;
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -1,7 +1,7 @@
 // EquivariantMlp: Xavier-uniform weights, evaluated by the fused law.
 #include "nn/nclaw/equivariant_mlp.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 EquivariantMlpImpl::EquivariantMlpImpl() {
   const auto xavier = [&](const char* name, int64_t outputs, int64_t inputs) {
@@ -18,4 +18,4 @@ torch::Tensor EquivariantMlpImpl::forward(const torch::Tensor& F, double scale, 
   return fused_law(F, weights_, scale, adds_input);
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -13,11 +13,11 @@
 #include "kernels/nclaw/law_network.h"
 #include "nn/nclaw/fused_law.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
-inline constexpr int64_t kLawInputs = nclaw::kLawInputs;    // σ − 1 (3), FᵀF − I (9), det F − 1 (1)
-inline constexpr int64_t kLawWidth = nclaw::kLawWidth;      // hidden width of both laws (App. D.2)
-inline constexpr int64_t kLawOutputs = nclaw::kLawOutputs;  // a 3×3 matrix, symmetrised
+inline constexpr int64_t kLawInputs = romp::nclaw::kLawInputs;    // σ − 1 (3), FᵀF − I (9), det F − 1 (1)
+inline constexpr int64_t kLawWidth = romp::nclaw::kLawWidth;      // hidden width of both laws (App. D.2)
+inline constexpr int64_t kLawOutputs = romp::nclaw::kLawOutputs;  // a 3×3 matrix, symmetrised
 
 class EquivariantMlpImpl : public torch::nn::Module {
  public:
@@ -34,4 +34,4 @@ class EquivariantMlpImpl : public torch::nn::Module {
 };
 TORCH_MODULE(EquivariantMlp);
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

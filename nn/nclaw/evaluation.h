@@ -7,14 +7,14 @@
 #include "nn/diffmpm/rollout.h"
 #include "nn/nclaw/trajectory.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 // "the average mean square error every 5 frames" (Sec. 4.1).
 inline constexpr int64_t kEvaluationFrameStride = 5;
 
 // The mean over frames every, 2 every, … ≤ steps of MSE(x, x_gt) (over particles and axes) of a
 // rollout of `laws` from frame 0 of `truth`, without teacher forcing and without gradients.
-double position_error(const DiffMpm& sim, const Trajectory& truth, const ConstitutiveLaws& laws, int64_t steps,
+double position_error(const diffmpm::DiffMpm& sim, const Trajectory& truth, const diffmpm::ConstitutiveLaws& laws, int64_t steps,
                       int64_t every = kEvaluationFrameStride);
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

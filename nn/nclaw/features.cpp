@@ -4,7 +4,7 @@
 #include "kernels/core/error.h"
 #include "nn/svd_ops.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 namespace {
 
 using torch::autograd::AutogradContext;
@@ -67,4 +67,4 @@ torch::Tensor invariant_features(const torch::Tensor& F, const torch::Tensor& si
   return torch::cat({sigma - 1.0, cauchy_green.reshape({n, 9}), det - 1.0}, 1);
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -3,7 +3,7 @@
 
 #include <torch/torch.h>
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 // [9, n] engine planes as [n, 3, 3] matrices, and back (contiguous copies).
 torch::Tensor planes_to_matrices(const torch::Tensor& planes);
@@ -23,4 +23,4 @@ StretchRotation stretch_and_rotation(const torch::Tensor& F);
 // All three are invariant under F → Q F (Ma et al. 2023, App. C.2) and exactly zero at F = I.
 torch::Tensor invariant_features(const torch::Tensor& F, const torch::Tensor& sigma);
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -3,7 +3,7 @@
 
 #include "nn/nclaw/features.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 torch::Tensor fixed_corotated_stress(const torch::Tensor& F, const torch::Tensor& youngs, const torch::Tensor& poisson) {
   const torch::Tensor mu = youngs / (2.0 * (1.0 + poisson));
@@ -18,4 +18,4 @@ torch::Tensor fixed_corotated_stress(const torch::Tensor& F, const torch::Tensor
   return matrices_to_planes(2.0 * mu * (matrices - R) + lambda * (J - 1.0) * cofactor);
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -3,7 +3,7 @@
 
 #include <torch/torch.h>
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 // P = 2μ (F − R) + λ (J − 1) J F⁻ᵀ (Ma et al. 2023, App. B, Eq. 12; kernels/material/fixed_corotated.h)
 // for F [9, n] planes, with μ, λ from Young's modulus E and Poisson's ratio ν (0-d tensors) as in
@@ -11,4 +11,4 @@ namespace romp::nn {
 // for every finite F.
 torch::Tensor fixed_corotated_stress(const torch::Tensor& F, const torch::Tensor& youngs, const torch::Tensor& poisson);
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

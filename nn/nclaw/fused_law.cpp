@@ -1,4 +1,4 @@
-// fused_law(): checks, then nclaw::law_forward / law_backward inside a torch::autograd::Function.
+// fused_law(): checks, then romp::nclaw::law_forward / law_backward inside a torch::autograd::Function.
 #include "nn/nclaw/fused_law.h"
 
 #include <string>
@@ -7,14 +7,14 @@
 #include "kernels/nclaw/neural_law.h"
 #include "nn/tensor_bridge.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 namespace {
 
 using torch::autograd::AutogradContext;
 using torch::autograd::variable_list;
 
 template <class T>
-nclaw::LawWeights<T> weights_of(const torch::Tensor& input, const torch::Tensor& hidden, const torch::Tensor& output,
+romp::nclaw::LawWeights<T> weights_of(const torch::Tensor& input, const torch::Tensor& hidden, const torch::Tensor& output,
                                 const Exec& exec) {
   return {as_span<const T>(input, exec, "law input weight").data(),
           as_span<const T>(hidden, exec, "law hidden weight").data(),
@@ -37,7 +37,7 @@ class FusedLawFunction : public torch::autograd::Function<FusedLawFunction> {
     dispatch_real(F, "neural law: F", [&](auto scalar) {
       using T = decltype(scalar);
       const Exec exec = exec_for(F);
-      nclaw::law_forward<T>(exec, weights_of<T>(input, hidden, output, exec), {T(scale), adds_input},
+      romp::nclaw::law_forward<T>(exec, weights_of<T>(input, hidden, output, exec), {T(scale), adds_input},
                             planes_of<const T>(F, exec, "neural law F"), planes_of<T>(Y, exec, "neural law Y"));
     });
     ctx->save_for_backward({F, input, hidden, output});
@@ -55,15 +55,15 @@ class FusedLawFunction : public torch::autograd::Function<FusedLawFunction> {
     const torch::Tensor dY = gradients[0].contiguous();
     torch::Tensor dF = torch::empty_like(F), d_input = torch::empty_like(input), d_hidden = torch::empty_like(hidden),
                   d_output = torch::empty_like(output);
-    torch::Tensor activations = torch::empty({nclaw::kLawActivationPlanes * F.size(1)}, F.options());
+    torch::Tensor activations = torch::empty({romp::nclaw::kLawActivationPlanes * F.size(1)}, F.options());
     dispatch_real(F, "neural law: F", [&](auto scalar) {
       using T = decltype(scalar);
       const Exec exec = exec_for(F);
-      const nclaw::LawGradients<T> out{planes_of<T>(dF, exec, "neural law dF"),
+      const romp::nclaw::LawGradients<T> out{planes_of<T>(dF, exec, "neural law dF"),
                                        as_span<T>(d_input, exec, "law input weight gradient").data(),
                                        as_span<T>(d_hidden, exec, "law hidden weight gradient").data(),
                                        as_span<T>(d_output, exec, "law output weight gradient").data()};
-      nclaw::law_backward<T>(exec, weights_of<T>(input, hidden, output, exec), {T(scale), adds_input},
+      romp::nclaw::law_backward<T>(exec, weights_of<T>(input, hidden, output, exec), {T(scale), adds_input},
                              planes_of<const T>(F, exec, "neural law F"), planes_of<const T>(dY, exec, "neural law dY"),
                              as_span<T>(activations, exec, "neural law activations"), out);
     });
@@ -86,10 +86,10 @@ void check_weight(const torch::Tensor& weight, int64_t outputs, int64_t inputs, 
 torch::Tensor fused_law(const torch::Tensor& F, const LawParameters& parameters, double scale, bool adds_input) {
   ROMP_CHECK(F.defined() && F.dim() == 2 && F.size(0) == 9,
              "neural law: F must be [9, n], got " + (F.defined() ? c10::str(F.sizes()) : std::string("undefined")));
-  check_weight(parameters.input, nclaw::kLawWidth, nclaw::kLawInputs, F, "input");
-  check_weight(parameters.hidden, nclaw::kLawWidth, nclaw::kLawWidth, F, "hidden");
-  check_weight(parameters.output, nclaw::kLawOutputs, nclaw::kLawWidth, F, "output");
+  check_weight(parameters.input, romp::nclaw::kLawWidth, romp::nclaw::kLawInputs, F, "input");
+  check_weight(parameters.hidden, romp::nclaw::kLawWidth, romp::nclaw::kLawWidth, F, "hidden");
+  check_weight(parameters.output, romp::nclaw::kLawOutputs, romp::nclaw::kLawWidth, F, "output");
   return FusedLawFunction::apply(F, parameters.input, parameters.hidden, parameters.output, scale, adds_input);
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

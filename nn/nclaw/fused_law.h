@@ -7,7 +7,7 @@
 
 #include <torch/torch.h>
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 // The three weight matrices of a law's network, row-major [outputs, inputs] (as torch::nn::Linear).
 struct LawParameters {
@@ -21,4 +21,4 @@ struct LawParameters {
 // Throws romp::Error naming the tensor whose shape, dtype or device is wrong.
 torch::Tensor fused_law(const torch::Tensor& F, const LawParameters& parameters, double scale, bool adds_input);
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -6,7 +6,7 @@
 #include "kernels/core/error.h"
 #include "nn/io/versioned_file.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 namespace {
 
 // A law file whose content is not a usable law: an invalid input (exit 3), like a damaged HDF5 file.
@@ -88,4 +88,4 @@ LawFile read_law_file(const std::string& path) {
   return law;
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -16,7 +16,7 @@
 #include "nn/nclaw/law_file_format.h"
 #include "nn/nclaw/neural_laws.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 // How the laws were learned.
 struct LawTrainingRecord {
@@ -38,4 +38,4 @@ void write_law_file(const std::string& path, const NeuralLaws& laws, const LawTr
 // law file of this version (wrong format, architecture, shapes, or non-finite weights).
 LawFile read_law_file(const std::string& path);
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

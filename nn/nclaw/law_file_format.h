@@ -4,8 +4,8 @@
 
 #include "nn/io/versioned_file.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 inline constexpr io::FileFormat kLawFile{"neural law", "romp-neural-law", "a romp neural-law file", 1};
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -11,7 +11,7 @@
 #include "nn/nclaw/training_schedule.h"
 #include "nn/nclaw/trajectory_loss.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 namespace {
 
 std::unique_ptr<torch::optim::Adam> adam(const torch::nn::Module& network, double learning_rate) {
@@ -47,7 +47,7 @@ void TrainingOptions::validate() const {
   ROMP_CHECK(velocity_weight >= 0.0, "training: velocity_weight must be >= 0, got " + std::to_string(velocity_weight));
 }
 
-LawTrainer::LawTrainer(const DiffMpmConfig& config, Trajectory truth, const TrainingOptions& options)
+LawTrainer::LawTrainer(const diffmpm::DiffMpmConfig& config, Trajectory truth, const TrainingOptions& options)
     : sim_(config, truth.mass, truth.volume),
       truth_(std::move(truth)),
       options_(options),
@@ -149,4 +149,4 @@ void LawTrainer::load_checkpoint(const std::string& path) {
   losses_.assign(history.data_ptr<double>(), history.data_ptr<double>() + history.numel());
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

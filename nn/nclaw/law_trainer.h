@@ -12,7 +12,7 @@
 #include "nn/nclaw/neural_laws.h"
 #include "nn/nclaw/trajectory.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 // The authors' protocol; every default is theirs (velocity_weight = 0 leaves their loss as it is).
 struct TrainingOptions {
@@ -49,7 +49,7 @@ struct EpochReport {
 class LawTrainer {
  public:
   // The laws and the simulation run on the trajectory's device and dtype (float32 for training).
-  LawTrainer(const DiffMpmConfig& config, Trajectory truth, const TrainingOptions& options);
+  LawTrainer(const diffmpm::DiffMpmConfig& config, Trajectory truth, const TrainingOptions& options);
 
   // One rollout of options.steps substeps with teacher forcing, its backward pass segment by
   // segment, per-network clipping and one Adam step of each network.
@@ -73,7 +73,7 @@ class LawTrainer {
   void load_checkpoint(const std::string& path);
 
  private:
-  DiffMpm sim_;
+  diffmpm::DiffMpm sim_;
   Trajectory truth_;
   TrainingOptions options_;
   NeuralLaws laws_;
@@ -81,4 +81,4 @@ class LawTrainer {
   std::vector<double> losses_;
 };
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

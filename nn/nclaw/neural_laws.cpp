@@ -1,7 +1,7 @@
 // ElasticLaw and PlasticLaw: Alg. 4 lines 6–10 on top of EquivariantMlp.
 #include "nn/nclaw/neural_laws.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 ElasticLawImpl::ElasticLawImpl() { register_module("core", core_); }
 
@@ -13,7 +13,7 @@ PlasticLawImpl::PlasticLawImpl(double step) : step_(step) {
 
 torch::Tensor PlasticLawImpl::forward(const torch::Tensor& F) { return core_->forward(F, step_, /*adds_input=*/true); }
 
-ConstitutiveLaws NeuralLaws::constitutive() const {
+diffmpm::ConstitutiveLaws NeuralLaws::constitutive() const {
   // The closures share the modules, so they see later weight updates.
   const std::shared_ptr<ElasticLawImpl> elastic_law = elastic.ptr();
   const std::shared_ptr<PlasticLawImpl> plastic_law = plastic.ptr();
@@ -39,4 +39,4 @@ NeuralLaws seeded_laws(uint64_t seed, const torch::TensorOptions& options) {
   return laws;
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -8,7 +8,7 @@
 #include "nn/diffmpm/rollout.h"
 #include "nn/nclaw/equivariant_mlp.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 // α of the plastic law F_new = F + α R T (App. C.1: "α = 0.001 in all our experiments").
 inline constexpr double kPlasticStep = 1e-3;
@@ -45,7 +45,7 @@ struct NeuralLaws {
   PlasticLaw plastic;
 
   // The laws of a rollout; they refer to these modules, which must outlive the rollout's backward pass.
-  ConstitutiveLaws constitutive() const;
+  diffmpm::ConstitutiveLaws constitutive() const;
   // Every weight of both networks, elastic first.
   std::vector<torch::Tensor> parameters() const;
   void to(const torch::Device& device, torch::ScalarType dtype);
@@ -55,4 +55,4 @@ struct NeuralLaws {
 // and on its device: the same seed gives the same laws.
 NeuralLaws seeded_laws(uint64_t seed, const torch::TensorOptions& options);
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

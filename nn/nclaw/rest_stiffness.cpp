@@ -1,7 +1,7 @@
 // Rest stiffness of an elastic law by central differences of three uniaxial stretches.
 #include "nn/nclaw/rest_stiffness.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 RestStiffness rest_stiffness(const std::function<torch::Tensor(const torch::Tensor&)>& elastic,
                              torch::ScalarType dtype) {
@@ -26,4 +26,4 @@ RestStiffness rest_stiffness(const std::function<torch::Tensor(const torch::Tens
   return {0.5 * (p_wave - lambda), lambda};
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -5,7 +5,7 @@
 
 #include <functional>
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 struct RestStiffness {
   double mu = 0.0;      // μ (Pa)
@@ -23,4 +23,4 @@ struct RestStiffness {
 RestStiffness rest_stiffness(const std::function<torch::Tensor(const torch::Tensor&)>& elastic,
                              torch::ScalarType dtype = torch::kFloat64);
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -7,7 +7,7 @@
 #include "nn/nclaw/features.h"
 #include "nn/nclaw/training_schedule.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 namespace {
 
 torch::Tensor appended(const torch::Tensor& existing, const torch::Tensor& more) {
@@ -79,4 +79,4 @@ SupervisedLosses fit_supervised(NeuralLaws& laws, const ConstitutivePairs& pairs
   return losses;
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

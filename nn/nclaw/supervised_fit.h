@@ -9,7 +9,7 @@
 #include "nn/nclaw/neural_laws.h"
 #include "nn/nclaw/trajectory.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 // Engine planes [9, m], m pairs.
 struct ConstitutivePairs {
@@ -36,4 +36,4 @@ struct SupervisedLosses {
 // |F_law − F_projected|² / mean |F_projected − F_trial|² (the part the plastic law must learn).
 SupervisedLosses fit_supervised(NeuralLaws& laws, const ConstitutivePairs& pairs, const SupervisedOptions& options);
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

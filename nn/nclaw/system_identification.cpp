@@ -9,7 +9,7 @@
 #include "nn/nclaw/training_schedule.h"
 #include "nn/nclaw/trajectory_loss.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 void SystemIdentificationOptions::validate() const {
   ROMP_CHECK(epochs > 0 && steps > 0, "system identification: epochs and steps must be positive");
@@ -23,7 +23,7 @@ void SystemIdentificationOptions::validate() const {
              "system identification: initial_poisson must be in (0, 0.5), got " + std::to_string(initial_poisson));
 }
 
-SystemIdentification::SystemIdentification(const DiffMpmConfig& config, Trajectory truth,
+SystemIdentification::SystemIdentification(const diffmpm::DiffMpmConfig& config, Trajectory truth,
                                            const SystemIdentificationOptions& options)
     : sim_(config, truth.mass, truth.volume), truth_(std::move(truth)), options_(options) {
   options_.validate();
@@ -50,7 +50,7 @@ double SystemIdentification::train_epoch() {
     static_cast<torch::optim::AdamOptions&>(group.options())
         .lr(cosine_anneal(options_.learning_rate, 0.0, epoch, options_.epochs));
   optimizer_->zero_grad();
-  const ConstitutiveLaws law{[this](const torch::Tensor& F) {
+  const diffmpm::ConstitutiveLaws law{[this](const torch::Tensor& F) {
                                return fixed_corotated_stress(F, youngs_tensor(), poisson_tensor());
                              },
                              {},
@@ -68,4 +68,4 @@ double SystemIdentification::train_epoch() {
   return loss;
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -10,7 +10,7 @@
 #include "nn/diffmpm/mpm_step.h"
 #include "nn/nclaw/trajectory.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 struct SystemIdentificationOptions {
   int64_t epochs = 100;                  // one rollout each; the cosine schedules span them all
@@ -28,7 +28,7 @@ struct SystemIdentificationOptions {
 
 class SystemIdentification {
  public:
-  SystemIdentification(const DiffMpmConfig& config, Trajectory truth, const SystemIdentificationOptions& options);
+  SystemIdentification(const diffmpm::DiffMpmConfig& config, Trajectory truth, const SystemIdentificationOptions& options);
 
   // One rollout with teacher forcing and one Adam step; returns the loss before the step.
   double train_epoch();
@@ -43,7 +43,7 @@ class SystemIdentification {
   torch::Tensor youngs_tensor() const;
   torch::Tensor poisson_tensor() const;
 
-  DiffMpm sim_;
+  diffmpm::DiffMpm sim_;
   Trajectory truth_;
   SystemIdentificationOptions options_;
   torch::Tensor log_youngs_, poisson_logit_;
@@ -51,4 +51,4 @@ class SystemIdentification {
   int64_t epochs_done_ = 0;
 };
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

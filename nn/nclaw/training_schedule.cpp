@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 double cosine_anneal(double first, double last, int64_t epoch, int64_t epochs) {
   const double pi = std::acos(-1.0);
@@ -14,4 +14,4 @@ int64_t teacher_forcing_period(int64_t first, int64_t last, int64_t epoch, int64
   return std::llround(cosine_anneal(double(first), double(last), epoch, epochs));
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

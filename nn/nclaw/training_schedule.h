@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 // Cosine annealing from `first` at epoch 0 to `last` at epoch `epochs`, as PyTorch's
 // CosineAnnealingLR with T_max = epochs: last + (first − last)(1 + cos(π epoch / epochs)) / 2.
@@ -14,4 +14,4 @@ double cosine_anneal(double first, double last, int64_t epoch, int64_t epochs);
 // substeps, cosine-scheduled from `first` (25 in the paper) up to `last` (200), rounded.
 int64_t teacher_forcing_period(int64_t first, int64_t last, int64_t epoch, int64_t epochs);
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -5,7 +5,7 @@
 
 #include "kernels/core/error.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 void Trajectory::validate() const {
   ROMP_CHECK(mass.defined() && mass.dim() == 1 && mass.size(0) > 0, "trajectory: mass must be [n] with n > 0");
@@ -38,12 +38,12 @@ Trajectory Trajectory::to(const torch::Device& device, torch::ScalarType dtype) 
   return {convert(mass), convert(volume), convert(x), convert(v), convert(C), convert(F)};
 }
 
-Trajectory simulate(const DiffMpm& sim, const MpmState& initial, const ConstitutiveLaws& laws, int64_t steps) {
+Trajectory simulate(const diffmpm::DiffMpm& sim, const diffmpm::MpmState& initial, const diffmpm::ConstitutiveLaws& laws, int64_t steps) {
   torch::NoGradGuard no_grad;
   std::vector<torch::Tensor> x{initial.x}, v{initial.v}, C{initial.C}, F{initial.F};
-  MpmState state = initial;
+  diffmpm::MpmState state = initial;
   for (int64_t s = 0; s < steps; ++s) {
-    state = rollout(sim, state, laws, {1, 0}).final_state;
+    state = diffmpm::rollout(sim, state, laws, {1, 0}).final_state;
     x.push_back(state.x);
     v.push_back(state.v);
     C.push_back(state.C);
@@ -52,4 +52,4 @@ Trajectory simulate(const DiffMpm& sim, const MpmState& initial, const Constitut
   return {sim.mass(), sim.volume(), torch::stack(x), torch::stack(v), torch::stack(C), torch::stack(F)};
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

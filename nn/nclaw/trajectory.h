@@ -8,7 +8,7 @@
 #include "nn/diffmpm/mpm_step.h"
 #include "nn/diffmpm/rollout.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
 // Frame k is the state after k substeps; frame 0 is the initial state. Tensors share one dtype and
 // device: mass, volume [n]; x, v [frames, 3, n]; C, F [frames, 9, n].
@@ -18,7 +18,7 @@ struct Trajectory {
 
   int64_t frame_count() const { return x.size(0); }
   int64_t particle_count() const { return mass.size(0); }
-  MpmState state(int64_t frame) const { return {x[frame], v[frame], C[frame], F[frame]}; }
+  diffmpm::MpmState state(int64_t frame) const { return {x[frame], v[frame], C[frame], F[frame]}; }
   // Throws romp::Error naming the first field whose shape, dtype or device disagrees with mass.
   void validate() const;
   // Throws romp::Error, starting with `who`, unless frames 0 .. steps exist.
@@ -28,6 +28,6 @@ struct Trajectory {
 
 // The trajectory of `steps` substeps from `initial` under `laws`, without gradients: ground truth
 // from a known law (tests, benchmarks, the oracles), or a learned law's prediction.
-Trajectory simulate(const DiffMpm& sim, const MpmState& initial, const ConstitutiveLaws& laws, int64_t steps);
+Trajectory simulate(const diffmpm::DiffMpm& sim, const diffmpm::MpmState& initial, const diffmpm::ConstitutiveLaws& laws, int64_t steps);
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -8,10 +8,10 @@
 #include "kernels/core/error.h"
 #include "nn/tensor_bridge.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 
-TrajectoryLossResult backpropagate_trajectory_loss(const DiffMpm& sim, const Trajectory& truth,
-                                                   const ConstitutiveLaws& laws, const TrajectoryLossOptions& options) {
+TrajectoryLossResult backpropagate_trajectory_loss(const diffmpm::DiffMpm& sim, const Trajectory& truth,
+                                                   const diffmpm::ConstitutiveLaws& laws, const TrajectoryLossOptions& options) {
   ROMP_CHECK(options.teacher_forcing_period > 0, "trajectory loss: teacher_forcing_period must be positive, got " +
                                                      std::to_string(options.teacher_forcing_period));
   ROMP_CHECK(options.velocity_weight >= 0.0,
@@ -29,7 +29,7 @@ TrajectoryLossResult backpropagate_trajectory_loss(const DiffMpm& sim, const Tra
   auto mark = std::chrono::steady_clock::now();
   for (int64_t start = 0; start < options.steps; start += options.teacher_forcing_period) {
     const int64_t steps = std::min(options.teacher_forcing_period, options.steps - start);
-    const Rollout result = rollout(sim, truth.state(start), laws, {steps, options.checkpoint_every});
+    const diffmpm::Rollout result = diffmpm::rollout(sim, truth.state(start), laws, {steps, options.checkpoint_every});
     // Frames start + 1 .. start + steps; MSE over particles and axes per substep, summed over the substeps.
     const auto mse = [&](const torch::Tensor& predicted, const torch::Tensor& truth_frames) {
       return (predicted - truth_frames.slice(0, start + 1, start + 1 + steps)).square().mean({1, 2}).sum();
@@ -45,4 +45,4 @@ TrajectoryLossResult backpropagate_trajectory_loss(const DiffMpm& sim, const Tra
   return total;
 }
 
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -45,7 +45,7 @@ class LearnLawCommand : public ::testing::Test {
 
 TEST_F(LearnLawCommand, WritesTheLawFileAndRemovesItsCheckpoint) {
   EXPECT_EQ(learn_law_command(DeviceChoice::Cpu, 1, options_), 0);
-  const nn::LawFile law = nn::read_law_file(options_.output);
+  const nn::nclaw::LawFile law = nn::nclaw::read_law_file(options_.output);
   EXPECT_EQ(law.training.trajectory, options_.trajectory);
   EXPECT_EQ(law.training.steps, 10);
   EXPECT_EQ(law.training.loss.size(), 2u);
@@ -56,7 +56,7 @@ TEST_F(LearnLawCommand, WritesTheLawFileAndRemovesItsCheckpoint) {
 // --steps below the reconstruction error's frame stride once trained every epoch and then failed; it is
 // refused before training, with nothing written.
 TEST_F(LearnLawCommand, StepsBelowTheEvaluationStrideAreRefusedBeforeTraining) {
-  options_.steps = nn::kEvaluationFrameStride - 1;
+  options_.steps = nn::nclaw::kEvaluationFrameStride - 1;
   for (const std::string method : {"motion", "labeled"}) {
     options_.method = method;
     try {
@@ -78,14 +78,14 @@ TEST_F(LearnLawCommand, ResumeContinuesACheckpointAndNeedsOne) {
   EXPECT_THROW(learn_law_command(DeviceChoice::Cpu, 1, resume), Error);
   // One epoch done, as an interrupted run leaves it.
   const nclaw::GroundTruth truth = nclaw::read_ground_truth(options_.trajectory, options_.steps);
-  nn::TrainingOptions training;
+  nn::nclaw::TrainingOptions training;
   training.epochs = options_.epochs;
   training.steps = options_.steps;
-  nn::LawTrainer trainer(truth.config, truth.trajectory, training);
+  nn::nclaw::LawTrainer trainer(truth.config, truth.trajectory, training);
   const double first_loss = trainer.train_epoch().loss;
   trainer.save_checkpoint(options_.output + ".checkpoint");
   EXPECT_EQ(learn_law_command(DeviceChoice::Cpu, 1, resume), 0);
-  const nn::LawFile law = nn::read_law_file(options_.output);
+  const nn::nclaw::LawFile law = nn::nclaw::read_law_file(options_.output);
   ASSERT_EQ(law.training.loss.size(), 2u);
   EXPECT_EQ(law.training.loss[0], first_loss);
 }
@@ -97,16 +97,16 @@ TEST_F(LearnLawCommand, PassesTheScheduleAndTheVelocityWeightToTheTrainer) {
   options_.teacher_forcing_first = options_.teacher_forcing_last = 4;
   options_.velocity_weight = 0.01;
   EXPECT_EQ(learn_law_command(DeviceChoice::Cpu, 1, options_), 0);
-  const double loss = nn::read_law_file(options_.output).training.loss.at(0);
+  const double loss = nn::nclaw::read_law_file(options_.output).training.loss.at(0);
 
   const nclaw::GroundTruth truth = nclaw::read_ground_truth(options_.trajectory, options_.steps);
-  nn::TrainingOptions training;
+  nn::nclaw::TrainingOptions training;
   training.epochs = 1;
   training.steps = options_.steps;
-  const double default_loss = nn::LawTrainer(truth.config, truth.trajectory, training).train_epoch().loss;
+  const double default_loss = nn::nclaw::LawTrainer(truth.config, truth.trajectory, training).train_epoch().loss;
   training.teacher_forcing_first = training.teacher_forcing_last = 4;
   training.velocity_weight = 0.01;
-  nn::LawTrainer same(truth.config, truth.trajectory, training);
+  nn::nclaw::LawTrainer same(truth.config, truth.trajectory, training);
   EXPECT_EQ(loss, same.train_epoch().loss);
   EXPECT_NE(loss, default_loss);
 
@@ -124,13 +124,13 @@ TEST_F(LearnLawCommand, LabeledOracleFitsTheGroundTruthsStress) {
   options_.epochs = 60;
   options_.pair_stride = 2;
   EXPECT_EQ(learn_law_command(DeviceChoice::Cpu, 1, options_), 0);
-  nn::LawFile law = nn::read_law_file(options_.output);
+  nn::nclaw::LawFile law = nn::nclaw::read_law_file(options_.output);
   ASSERT_EQ(law.training.loss.size(), 60u);
   EXPECT_LT(law.training.loss.back(), 0.1 * law.training.loss.front());
   const nclaw::GroundTruth truth = nclaw::read_ground_truth(options_.trajectory);
-  const nn::DiffMpm sim(truth.config, truth.trajectory.mass, truth.trajectory.volume);
+  const nn::diffmpm::DiffMpm sim(truth.config, truth.trajectory.mass, truth.trajectory.volume);
   const double untrained =
-      nn::position_error(sim, truth.trajectory, nn::seeded_laws(options_.seed, torch::kFloat32).constitutive(), 10);
+      nn::nclaw::position_error(sim, truth.trajectory, nn::nclaw::seeded_laws(options_.seed, torch::kFloat32).constitutive(), 10);
   EXPECT_LT(law.training.reconstruction_error, 0.01 * untrained);  // measured: 9.0e-12 against 3.1e-8 m²
   const torch::Tensor F = torch::eye(3).reshape({9, 1}) + 0.1 * torch::randn({9, 8});
   EXPECT_TRUE(torch::equal(law.laws.plastic->forward(F), F));

@@ -33,19 +33,19 @@ namespace {
 // Seeded laws whose elastic part is scaled to the rest P-wave modulus `p_wave` (Pa; negative makes
 // a law that gives way under compression) and whose plastic part is `plastic_gain` times the seeded
 // one, so that both matter within a few substeps.
-nn::NeuralLaws scaled_laws(std::uint64_t seed, double p_wave, double plastic_gain = 100.0) {
-  nn::NeuralLaws laws = nn::seeded_laws(seed, torch::kFloat32);
+nn::nclaw::NeuralLaws scaled_laws(std::uint64_t seed, double p_wave, double plastic_gain = 100.0) {
+  nn::nclaw::NeuralLaws laws = nn::nclaw::seeded_laws(seed, torch::kFloat32);
   const torch::NoGradGuard no_grad;
-  const double found = nn::rest_stiffness([&](const torch::Tensor& F) { return laws.elastic->forward(F); },
+  const double found = nn::nclaw::rest_stiffness([&](const torch::Tensor& F) { return laws.elastic->forward(F); },
                                           torch::kFloat32).p_wave_modulus();
   laws.elastic->parameters().back().mul_(p_wave / found);  // the output layer: P is linear in it
   laws.plastic->parameters().back().mul_(plastic_gain);
   return laws;
 }
 
-std::string write_law(const test::ScratchFolder& folder, const std::string& name, const nn::NeuralLaws& laws) {
+std::string write_law(const test::ScratchFolder& folder, const std::string& name, const nn::nclaw::NeuralLaws& laws) {
   const std::string path = folder.file(name);
-  nn::write_law_file(path, laws, {"none (test)", 0, {}, 0.0});
+  nn::nclaw::write_law_file(path, laws, {"none (test)", 0, {}, 0.0});
   return path;
 }
 
@@ -90,7 +90,7 @@ mpm::ParticleInit resting_particles(Index n) {
 TEST(NeuralMaterials, EachLawActsOnItsOwnMaterialsParticles) {
   const test::ScratchFolder folder;
   const Exec& exec = test::exec();
-  nn::NeuralLaws first = scaled_laws(1, 1e5), second = scaled_laws(2, 3e5);
+  nn::nclaw::NeuralLaws first = scaled_laws(1, 1e5), second = scaled_laws(2, 3e5);
   const std::vector<MaterialSpec> materials = {
       {material::MaterialParams<float>::neural({1.0f, 1.0f}), 1000.0f, write_law(folder, "first.h5", first)},
       {material::MaterialParams<float>::fixed_corotated({1.0f, 1.0f}), 1000.0f, ""},
@@ -135,7 +135,7 @@ TEST(NeuralMaterials, StressFollowsTheKernelsQueuedBeforeItOnTheEnginesStream) {
   const test::ScratchFolder folder;
   const test::StreamOfItsOwn stream(test::exec());
   const Exec& exec = stream.exec();
-  nn::NeuralLaws laws = scaled_laws(3, 1e5);
+  nn::nclaw::NeuralLaws laws = scaled_laws(3, 1e5);
   const std::vector<MaterialSpec> materials = {
       {material::MaterialParams<float>::neural({1.0f, 1.0f}), 1000.0f, write_law(folder, "law.h5", laws)}};
   constexpr Index n = 4096;
@@ -190,7 +190,7 @@ gravity = [0.0, -9.8, 0.0]
 // through the impact that compresses the cube and sets both laws to work.
 TEST(NeuralMaterials, SceneRunFollowsTheDifferentiableStepWithTheSameLaws) {
   const test::ScratchFolder folder;
-  nn::NeuralLaws laws = scaled_laws(4, 1e4, 10.0);
+  nn::nclaw::NeuralLaws laws = scaled_laws(4, 1e4, 10.0);
   write_law(folder, "law.h5", laws);
   run::RunOptions options;
   options.output = folder.file("cube.h5");
@@ -199,13 +199,13 @@ TEST(NeuralMaterials, SceneRunFollowsTheDifferentiableStepWithTheSameLaws) {
   run::run_scene(test::exec(), scene, options);
 
   const nclaw::GroundTruth engine = nclaw::read_ground_truth(options.output);
-  const nn::Trajectory& t = engine.trajectory;
-  const nn::DiffMpm sim(engine.config, t.mass, t.volume);
+  const nn::nclaw::Trajectory& t = engine.trajectory;
+  const nn::diffmpm::DiffMpm sim(engine.config, t.mass, t.volume);
   const torch::NoGradGuard no_grad;
   const int64_t steps = t.frame_count() - 1;
-  const nn::Rollout replay = nn::rollout(sim, t.state(0), laws.constitutive(), {steps, 0});
-  const nn::ConstitutiveLaws stress_free{[](const torch::Tensor& F) { return torch::zeros_like(F); }, {}, {}};
-  const nn::Rollout ballistic = nn::rollout(sim, t.state(0), stress_free, {steps, 0});
+  const nn::diffmpm::Rollout replay = nn::diffmpm::rollout(sim, t.state(0), laws.constitutive(), {steps, 0});
+  const nn::diffmpm::ConstitutiveLaws stress_free{[](const torch::Tensor& F) { return torch::zeros_like(F); }, {}, {}};
+  const nn::diffmpm::Rollout ballistic = nn::diffmpm::rollout(sim, t.state(0), stress_free, {steps, 0});
   const torch::Tensor engine_x = t.x.slice(0, 1);
   const double error = (replay.positions - engine_x).abs().max().item<double>();
   const double law_effect = (ballistic.positions - engine_x).abs().max().item<double>();

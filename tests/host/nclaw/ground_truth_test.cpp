@@ -76,13 +76,13 @@ TEST(GroundTruth, ReadsTheSceneConstantsAndEveryFrame) {
 TEST(GroundTruth, DifferentiableStepReproducesTheEngine) {
   const test::ScratchFolder folder;
   const GroundTruth truth = read_ground_truth(run(folder, cube_scene(), "cube.h5"));
-  const nn::Trajectory& t = truth.trajectory;
-  const nn::DiffMpm sim(truth.config, t.mass, t.volume);
+  const nn::nclaw::Trajectory& t = truth.trajectory;
+  const nn::diffmpm::DiffMpm sim(truth.config, t.mass, t.volume);
   const torch::Tensor youngs = torch::tensor(1e5f), poisson = torch::tensor(0.2f);
-  const nn::ConstitutiveLaws jelly{
-      [&](const torch::Tensor& F) { return nn::fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
+  const nn::diffmpm::ConstitutiveLaws jelly{
+      [&](const torch::Tensor& F) { return nn::nclaw::fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
   torch::NoGradGuard no_grad;
-  const nn::Rollout replay = nn::rollout(sim, t.state(0), jelly, {kFrames, 0});
+  const nn::diffmpm::Rollout replay = nn::diffmpm::rollout(sim, t.state(0), jelly, {kFrames, 0});
   const double error = (replay.positions - t.x.slice(0, 1)).abs().max().item<double>();
   std::printf("max |x_diffmpm - x_engine| over %lld substeps: %.3g m\n", (long long)kFrames, error);
   EXPECT_LE(error, 1e-5);

@@ -13,7 +13,7 @@
 #include "nn/nclaw/neural_laws.h"
 #include "tests/nn/diffmpm/gradient_check.h"
 
-namespace romp::nn {
+namespace romp::nn::diffmpm {
 namespace {
 
 // The bound for gradients in double.
@@ -102,7 +102,7 @@ TEST(DiffMpm, RolloutGradientsMatchCentralDifferences) {
   for (torch::Tensor* t : {&initial.x, &initial.v, &initial.C, &initial.F}) t->requires_grad_(true);
   const torch::Tensor youngs = torch::tensor(2e4, torch::kFloat64).requires_grad_(true);
   const torch::Tensor poisson = torch::tensor(0.3, torch::kFloat64).requires_grad_(true);
-  const ConstitutiveLaws laws{[&](const torch::Tensor& F) { return fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
+  const ConstitutiveLaws laws{[&](const torch::Tensor& F) { return nclaw::fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
   const RolloutOptions options{5, 0};
   const RandomLoss weights(options.steps, scene.sim.particle_count(), torch::kFloat64);
   const auto loss = [&] { return weights(rollout(scene.sim, initial, laws, options)); };
@@ -119,9 +119,9 @@ TEST(DiffMpm, RolloutGradientsMatchCentralDifferences) {
 // Both neural laws in the loop (Alg. 2): gradients reach the first layer of each network.
 TEST(DiffMpm, NeuralLawRolloutGradientsMatchCentralDifferences) {
   Scene scene = small_scene(torch::kFloat64, 3);
-  const NeuralLaws laws_in_double = seeded_laws(3, torch::kFloat64);
-  ElasticLaw elastic = laws_in_double.elastic;
-  PlasticLaw plastic = laws_in_double.plastic;
+  const nclaw::NeuralLaws laws_in_double = nclaw::seeded_laws(3, torch::kFloat64);
+  nclaw::ElasticLaw elastic = laws_in_double.elastic;
+  nclaw::PlasticLaw plastic = laws_in_double.plastic;
   // Untrained weights give stresses of order 1 Pa and plastic corrections of order 1e-5; scale both
   // laws' last layers so that they move the particles within five substeps, and their gradients
   // stand well above the central differences' rounding of the loss.
@@ -145,9 +145,9 @@ TEST(DiffMpm, NeuralLawRolloutGradientsMatchCentralDifferences) {
 // Recomputing segments of 2 substeps from checkpoints gives the full graph's loss and gradients.
 TEST(DiffMpm, CheckpointedRolloutMatchesFullGraph) {
   Scene scene = small_scene(torch::kFloat64, 4);
-  const NeuralLaws laws_in_double = seeded_laws(4, torch::kFloat64);
-  ElasticLaw elastic = laws_in_double.elastic;
-  PlasticLaw plastic = laws_in_double.plastic;
+  const nclaw::NeuralLaws laws_in_double = nclaw::seeded_laws(4, torch::kFloat64);
+  nclaw::ElasticLaw elastic = laws_in_double.elastic;
+  nclaw::PlasticLaw plastic = laws_in_double.plastic;
   const torch::Tensor log_youngs = torch::tensor(std::log(2e4), torch::kFloat64).requires_grad_(true);
   scene.initial.v.requires_grad_(true);
   const RandomLoss weights(7, scene.sim.particle_count(), torch::kFloat64);
@@ -162,7 +162,7 @@ TEST(DiffMpm, CheckpointedRolloutMatchesFullGraph) {
     // E enters through a non-leaf tensor, which checkpointed segments must differentiate too.
     const torch::Tensor youngs = log_youngs.exp();
     const ConstitutiveLaws laws{
-        [&](const torch::Tensor& F) { return elastic->forward(F) + fixed_corotated_stress(F, youngs, torch::tensor(0.3, torch::kFloat64)); },
+        [&](const torch::Tensor& F) { return elastic->forward(F) + nclaw::fixed_corotated_stress(F, youngs, torch::tensor(0.3, torch::kFloat64)); },
         [&](const torch::Tensor& F) { return plastic->forward(F); },
         {elastic->parameters()[0], elastic->parameters()[1], elastic->parameters()[2], plastic->parameters()[0],
          plastic->parameters()[1], plastic->parameters()[2], youngs}};
@@ -194,8 +194,8 @@ TEST(DiffMpm, FloatTrainingSceneRunsForwardAndBackward) {
                               .contiguous()
                               .requires_grad_(true);
   const MpmState initial{x, v, torch::zeros({9, n}), torch::eye(3).reshape({9, 1}).expand({9, n}).contiguous()};
-  ElasticLaw elastic;
-  PlasticLaw plastic;
+  nclaw::ElasticLaw elastic;
+  nclaw::PlasticLaw plastic;
   const ConstitutiveLaws laws{[&](const torch::Tensor& F) { return elastic->forward(F); },
                               [&](const torch::Tensor& F) { return plastic->forward(F); }, {}};
   const Rollout result = rollout(sim, initial, laws, {20, 0});
@@ -231,4 +231,4 @@ TEST(DiffMpm, CudaStepMatchesCpu) {
 }
 
 }  // namespace
-}  // namespace romp::nn
+}  // namespace romp::nn::diffmpm

@@ -12,7 +12,7 @@
 #include "nn/nclaw/fused_law.h"
 #include "nn/nclaw/neural_laws.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 namespace {
 
 torch::TensorOptions options(torch::ScalarType dtype) { return torch::TensorOptions().dtype(dtype); }
@@ -126,14 +126,14 @@ TEST(FusedLaw, RefusesWrongShapesNamingTheTensor) {
 TEST(FusedLaw, ATrainingSegmentMakesNoHostRoundTrip) {
   torch::manual_seed(14);
   const int64_t n = 64;
-  const DiffMpm sim(DiffMpmConfig{}, torch::full({n}, 1e-3), torch::full({n}, 1e-6));
-  const MpmState initial{0.4 + 0.2 * torch::rand({3, n}), torch::zeros({3, n}), torch::zeros({9, n}),
+  const diffmpm::DiffMpm sim(diffmpm::DiffMpmConfig{}, torch::full({n}, 1e-3), torch::full({n}, 1e-6));
+  const diffmpm::MpmState initial{0.4 + 0.2 * torch::rand({3, n}), torch::zeros({3, n}), torch::zeros({9, n}),
                          torch::eye(3).reshape({9, 1}).expand({9, n}).contiguous()};
   const NeuralLaws laws = seeded_laws(15, torch::TensorOptions().dtype(torch::kFloat32));
-  const Rollout warm_up = rollout(sim, initial, laws.constitutive(), {2, 0});  // first-use allocations
+  const diffmpm::Rollout warm_up = diffmpm::rollout(sim, initial, laws.constitutive(), {2, 0});  // first-use allocations
   warm_up.positions.sum().backward();
   const memory::Traffic before = memory::traffic();
-  const Rollout segment = rollout(sim, initial, laws.constitutive(), {10, 0});
+  const diffmpm::Rollout segment = diffmpm::rollout(sim, initial, laws.constitutive(), {10, 0});
   segment.positions.square().sum().backward();
   const memory::Traffic after = memory::traffic();
   EXPECT_EQ(after.allocations, before.allocations);
@@ -159,4 +159,4 @@ TEST(FusedLaw, CudaMatchesCpu) {
 }
 
 }  // namespace
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -10,7 +10,7 @@
 #include "nn/nclaw/law_file.h"
 #include "tests/support/scratch_folder.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 namespace {
 
 NeuralLaws random_laws() { return seeded_laws(7, torch::kFloat32); }
@@ -84,4 +84,4 @@ TEST(LawFile, RejectsDamagedFilesNamingWhatIsWrong) {
 }
 
 }  // namespace
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

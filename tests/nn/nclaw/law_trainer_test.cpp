@@ -11,7 +11,7 @@
 #include "tests/nn/nclaw/tiny_trajectory.h"
 #include "tests/support/scratch_folder.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 namespace {
 
 TEST(TrainingSchedule, CosineAnnealingRunsFromFirstToLast) {
@@ -106,4 +106,4 @@ TEST_F(LawTraining, RejectsATrajectoryShorterThanTheRollout) {
 }
 
 }  // namespace
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -8,7 +8,7 @@
 #include "nn/nclaw/neural_laws.h"
 #include "tests/nn/diffmpm/gradient_check.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 namespace {
 
 constexpr int64_t kCount = 512;
@@ -117,4 +117,4 @@ TEST(NeuralLaws, ElasticGradientMatchesCentralDifferences) {
 }
 
 }  // namespace
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

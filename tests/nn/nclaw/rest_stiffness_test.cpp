@@ -7,7 +7,7 @@
 #include "nn/nclaw/neural_laws.h"
 #include "nn/nclaw/rest_stiffness.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 namespace {
 
 TEST(RestStiffness, RecoversTheLameParametersOfFixedCorotated) {
@@ -42,4 +42,4 @@ TEST(RestStiffness, OfAnUntrainedLawIsFiniteAndRunsOnItsDtype) {
 }
 
 }  // namespace
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

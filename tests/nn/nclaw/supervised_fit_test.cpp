@@ -9,7 +9,7 @@
 #include "nn/nclaw/fixed_corotated.h"
 #include "tests/nn/nclaw/tiny_trajectory.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 namespace {
 
 // The trial F of the substep from frame k to k + 1 is (I + dt C_{k+1}) F_k: for the purely elastic
@@ -58,4 +58,4 @@ TEST(SupervisedFit, PlasticLawLearnsARelaxation) {
 }
 
 }  // namespace
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -8,7 +8,7 @@
 
 #include "tests/nn/nclaw/tiny_trajectory.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 namespace {
 
 // The tiny jelly (E = 1e4 Pa, ν = 0.3) from a 3x too stiff, too compressible start, with full
@@ -35,4 +35,4 @@ TEST(SystemIdentification, RecoversYoungsModulusAndPoissonsRatio) {
 }
 
 }  // namespace
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw

@@ -14,14 +14,14 @@
 namespace romp::nn::test {
 
 struct TinyGroundTruth {
-  DiffMpmConfig config;
-  Trajectory trajectory;
+  diffmpm::DiffMpmConfig config;
+  nclaw::Trajectory trajectory;
 };
 
 inline TinyGroundTruth tiny_ground_truth(int64_t steps) {
   torch::NoGradGuard no_grad;
   const auto f32 = torch::TensorOptions().dtype(torch::kFloat32);
-  DiffMpmConfig config;
+  diffmpm::DiffMpmConfig config;
   config.dx = 0.1;
   config.cells = {10, 10, 10};
   config.dt = 1e-3;
@@ -31,12 +31,12 @@ inline TinyGroundTruth tiny_ground_truth(int64_t steps) {
   x[1] -= 0.05f;  // bottom layer at y = 0.325, just above the 3-cell floor
   const int64_t n = x.size(1);
   const torch::Tensor volume = torch::full({n}, 0.05f * 0.05f * 0.05f, f32);
-  const DiffMpm sim(config, 1e3 * volume, volume);
+  const diffmpm::DiffMpm sim(config, 1e3 * volume, volume);
   const torch::Tensor v = torch::tensor({0.5f, -2.0f, 0.3f}, f32).reshape({3, 1}).expand({3, n}).contiguous();
-  const MpmState initial{x, v, torch::zeros({9, n}, f32), torch::eye(3, f32).reshape({9, 1}).expand({9, n}).contiguous()};
+  const diffmpm::MpmState initial{x, v, torch::zeros({9, n}, f32), torch::eye(3, f32).reshape({9, 1}).expand({9, n}).contiguous()};
   const torch::Tensor youngs = torch::tensor(1e4, f32), poisson = torch::tensor(0.3, f32);
-  const ConstitutiveLaws law{[&](const torch::Tensor& F) { return fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
-  return {config, simulate(sim, initial, law, steps)};
+  const diffmpm::ConstitutiveLaws law{[&](const torch::Tensor& F) { return nclaw::fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
+  return {config, nclaw::simulate(sim, initial, law, steps)};
 }
 
 }  // namespace romp::nn::test

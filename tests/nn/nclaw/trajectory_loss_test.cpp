@@ -11,7 +11,7 @@
 #include "nn/nclaw/trajectory_loss.h"
 #include "tests/nn/nclaw/tiny_trajectory.h"
 
-namespace romp::nn {
+namespace romp::nn::nclaw {
 namespace {
 
 constexpr int64_t kSteps = 40, kPeriod = 15;  // segments of 15, 15 and 10 substeps; the cube lands in the first
@@ -24,7 +24,7 @@ class TrajectoryLoss : public ::testing::Test {
     torch::set_num_threads(1);
   }
   const test::TinyGroundTruth truth = test::tiny_ground_truth(kSteps);
-  const DiffMpm sim{truth.config, truth.trajectory.mass, truth.trajectory.volume};
+  const diffmpm::DiffMpm sim{truth.config, truth.trajectory.mass, truth.trajectory.volume};
   const NeuralLaws laws = seeded_laws(3, torch::TensorOptions().dtype(torch::kFloat32));
 
   // The gradient of every weight, then cleared.
@@ -42,7 +42,7 @@ class TrajectoryLoss : public ::testing::Test {
     double total = 0.0;
     for (int64_t start = 0; start < kSteps; start += kPeriod) {
       const int64_t steps = std::min(kPeriod, kSteps - start);
-      const Rollout r = rollout(sim, truth.trajectory.state(start), laws.constitutive(), {steps, 0});
+      const diffmpm::Rollout r = diffmpm::rollout(sim, truth.trajectory.state(start), laws.constitutive(), {steps, 0});
       torch::Tensor loss = torch::zeros({}, torch::kFloat32);
       for (int64_t s = 0; s < steps; ++s) {
         loss = loss + (r.positions[s] - truth.trajectory.x[start + 1 + s]).square().mean();
@@ -93,4 +93,4 @@ TEST_F(TrajectoryLoss, RejectsANegativeVelocityWeight) {
 }
 
 }  // namespace
-}  // namespace romp::nn
+}  // namespace romp::nn::nclaw
