@@ -27,9 +27,9 @@ diffmpm::StepParams<T> step_params(const DiffMpmConfig& config) {
   params.dt = T(config.dt);
   params.dx = T(config.dx);
   params.gravity = Vec3<T>(T(config.gravity[0]), T(config.gravity[1]), T(config.gravity[2]));
-  for (int a = 0; a < 3; ++a) params.cells[a] = config.cells[a];
-  params.wall_cells = config.wall_cells;
-  params.walls = config.walls;
+  for (int a = 0; a < 3; ++a) params.domain.cells[a] = config.cells[a];
+  params.domain.wall_cells = config.wall_cells;
+  params.domain.wall_contact = config.walls;
   return params;
 }
 
