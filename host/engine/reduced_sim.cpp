@@ -538,10 +538,11 @@ void ReducedSim::check_latent(const char* stage) const {
 
 void ReducedSim::check_inside_domain(const DeviceBuffer<float>& x, Index count, Span<const std::int32_t> index) {
   // The band the full-order step keeps particles in (mpm::kept_inside_domain).
+  const mpm::Domain domain = config_.domain();
   Vec3<float> low, high;
   for (int a = 0; a < 3; ++a) {
-    low[a] = mpm::kDomainMarginCells * config_.dx;
-    high[a] = (float(config_.domain_cells[a]) - mpm::kDomainMarginCells) * config_.dx;
+    low[a] = domain.low_bound(config_.dx);
+    high[a] = domain.high_bound(a, config_.dx);
   }
   fill(exec_, first_outside_.span(), rom::kNoPointOutside);
   rom::find_point_outside(exec_, Vec3Planes<const float>(x.data(), count), low, high, first_outside_.span());

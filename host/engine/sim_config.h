@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/mpm/domain_config.h"
 #include "kernels/mpm/step.h"
 
 namespace romp {
@@ -72,18 +73,10 @@ struct ImplicitSolverConfig {
   std::int32_t max_iterations = 1000;
 };
 
-struct FullOrderConfig {
-  float dx = 0.0f;
-  std::array<std::int32_t, 3> domain_cells{0, 0, 0};  // the domain is [0, cells dx] per axis
-  Vec3<float> gravity{0.0f, -9.81f, 0.0f};
+// The domain, grid, walls, gravity and time stepping (mpm::DomainConfig), then the engine's own.
+struct FullOrderConfig : mpm::DomainConfig<float> {
   mpm::Transfer transfer = mpm::Transfer::Apic;
   float flip_alpha = 0.95f;
-  std::int32_t wall_cells = 3;
-  mpm::ContactType wall_contact = mpm::ContactType::Separate;
-  float wall_friction = 0.0f;
-  float cfl = 0.5f;        // Δt = cfl dx / (c + |v|max); at most 1, or kImplicitMaxCfl when implicit
-  float fixed_dt = 0.0f;   // > 0: use this Δt instead of the CFL condition
-  float max_dt = 1e-3f;    // upper bound on the CFL step (a body at rest has |v| = 0)
   P2GKernel p2g = P2GKernel::Tiled;
   // Particle domains: corners of particles whose deformation quality (particle_domains.h) is at most
   // this become degrees of freedom of their own (dynamic enrichment); 0 turns enrichment off.

@@ -86,9 +86,7 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   step.gravity = config.gravity;
   step.transfer = config.transfer;
   step.flip_alpha = config.flip_alpha;
-  for (int a = 0; a < 3; ++a) step.domain_cells[a] = config.domain_cells[a];
-  step.wall_cells = config.wall_cells;
-  step.wall_contact = config.wall_contact;
+  step.domain = config.domain();
   step.wall_friction = config.wall_friction;
   step.materials = materials_.span();
   // The active ones fill the front of buffers sized for all of them: no allocation.

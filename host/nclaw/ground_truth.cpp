@@ -21,14 +21,7 @@ nn::diffmpm::DiffMpmConfig differentiable_config(const scene::Scene& s, const st
   require(s.colliders.empty() && s.dirichlet.empty() && s.pokes.empty(),
           "has colliders, Dirichlet groups or pokes");
   nn::diffmpm::DiffMpmConfig config;
-  config.dt = s.fixed_dt;
-  config.dx = s.dx;
-  for (int a = 0; a < 3; ++a) {
-    config.cells[a] = s.domain_cells[a];
-    config.gravity[a] = s.gravity[a];
-  }
-  config.wall_cells = s.wall_cells;
-  config.walls = s.wall_contact;
+  static_cast<mpm::DomainConfig<double>&>(config) = s;
   return config;
 }
 
@@ -60,7 +53,7 @@ void check_frame(const io::FrameData& frame, int64_t k, const nn::diffmpm::DiffM
                                 io::field_names(field).front(), e % n, values[e]));
   }
   for (int a = 0; a < 3; ++a) {
-    const double low = config.dx, high = double(config.cells[std::size_t(a)] - 1) * config.dx;
+    const double low = config.dx, high = double(config.domain_cells[std::size_t(a)] - 1) * config.dx;
     for (std::size_t p = 0; p < n; ++p) {
       const float x = frame.x[std::size_t(a) * n + p];
       if (!(x >= low && x <= high))

@@ -49,7 +49,7 @@ nn::nclaw::LawFile fit_labeled_oracle(const GroundTruth& truth, const std::strin
   for (int64_t k = 0; plastic && k < steps; k += stride) {
     nn::nclaw::Trajectory substep = t;  // frames k and k + 1: one substep's trial and projected F
     for (torch::Tensor* field : {&substep.x, &substep.v, &substep.C, &substep.F}) *field = field->slice(0, k, k + 2);
-    nn::nclaw::add_plastic_pairs(substep, truth.config.dt, pairs);
+    nn::nclaw::add_plastic_pairs(substep, truth.config.fixed_dt, pairs);
   }
 
   nn::nclaw::LawFile result{nn::nclaw::seeded_laws(seed, torch::kFloat32), {}};

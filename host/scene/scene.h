@@ -15,6 +15,7 @@
 #include "kernels/math/mat3.h"
 #include "kernels/math/vec3.h"
 #include "kernels/mpm/collider.h"
+#include "kernels/mpm/domain_config.h"
 
 namespace romp::scene {
 
@@ -113,26 +114,20 @@ struct OutputSpec {
   bool ply = false;
 };
 
-struct Scene {
+// The domain [0, size] per axis in cells of side dx, its walls, gravity and time stepping are the
+// mpm::DomainConfig every simulation shares; the rest is the scene's own.
+struct Scene : mpm::DomainConfig<double> {
   std::string name, description;
   std::string mode = "full-order";
-  // Domain [0, size] per axis, cells of side dx.
   Vec3<double> domain_size = Vec3<double>::zero();
-  double dx = 0.0;
-  std::int32_t domain_cells[3] = {0, 0, 0};
   // Time.
   double end_time = 0.0, frame_rate = 0.0;
-  double fixed_dt = 0.0, cfl = 0.5, max_dt = 1e-3;
   std::int64_t frame_count = 0;  // frames after the initial one: end_time × frame_rate
-  // Solver and walls.
+  // Solver.
   std::string transfer = "apic";
   std::string integrator = "explicit";
   double flip_alpha = 0.95;
   double enrichment = 0.6;  // particle domains: deformation quality at or below which corners are enriched
-  std::int32_t wall_cells = 3;
-  mpm::ContactType wall_contact = mpm::ContactType::Separate;
-  double wall_friction = 0.0;
-  Vec3<double> gravity = Vec3<double>(0.0, -9.81, 0.0);
   std::vector<MaterialSpecification> materials;
   std::vector<ObjectSpec> objects;
   std::vector<ColliderSpecification> colliders;

@@ -37,19 +37,11 @@ mpm::Region to_region(const ShapeSpec& shape) {
 
 FullOrderConfig engine_config(const Scene& scene) {
   FullOrderConfig c;
-  c.dx = float(scene.dx);
-  for (int a = 0; a < 3; ++a) c.domain_cells[a] = scene.domain_cells[a];
-  c.gravity = to_float(scene.gravity);
+  static_cast<mpm::DomainConfig<float>&>(c) = scene.converted<float>();
   c.transfer = scene.transfer == "apic" ? mpm::Transfer::Apic : mpm::Transfer::PicFlip;
   c.flip_alpha = float(scene.flip_alpha);
   c.enrichment_threshold = float(scene.enrichment);
   c.integrator = scene.integrator == "implicit" ? Integrator::Implicit : Integrator::Explicit;
-  c.wall_cells = scene.wall_cells;
-  c.wall_contact = scene.wall_contact;
-  c.wall_friction = float(scene.wall_friction);
-  c.cfl = float(scene.cfl);
-  c.fixed_dt = float(scene.fixed_dt);
-  c.max_dt = float(scene.max_dt);
   for (const MaterialSpecification& m : scene.materials) c.materials.push_back(to_material_spec(m));
   for (const ColliderSpecification& s : scene.colliders) {
     mpm::ColliderState state;

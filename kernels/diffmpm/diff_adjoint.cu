@@ -31,7 +31,7 @@ struct GridToParticleAdjoint {
     const Vec3<T> moved = x + step.dt * gathered.v;
     Vec3<T> x_bar = out_adjoint.x.load(p);
     for (int a = 0; a < 3; ++a)
-      if (moved[a] < low_position_bound(step) || moved[a] > high_position_bound(step, a)) x_bar[a] = T(0);
+      if (moved[a] < step.domain.low_bound(step.dx) || moved[a] > step.domain.high_bound(a, step.dx)) x_bar[a] = T(0);
     const Vec3<T> v_bar = out_adjoint.v.load(p) + step.dt * x_bar;
     const Mat3<T> F_bar = out_adjoint.F.load(p);
     in_adjoint.F.store(p, transpose_times(Mat3<T>::identity() + step.dt * gathered.C, F_bar));
@@ -61,11 +61,11 @@ struct UpdateGridAdjoint {
     Vec3<T> momentum_bar = Vec3<T>::zero();
     T mass_bar = T(0);
     if (grid.mass[n] > T(0)) {
-      const NodeVelocity<T> node = node_velocity(step, grid, n);
+      const NodeUpdate<T> node = node_update(step, grid, n);
       const T inverse_mass = T(1) / grid.mass[n];
       const Vec3<T> v_free_bar = hadamard(node.kept, grid.velocity_adjoint.load(n));
       momentum_bar = inverse_mass * v_free_bar;
-      mass_bar = -dot(v_free_bar, node.transferred) * inverse_mass;
+      mass_bar = -dot(v_free_bar, node.velocity.transferred) * inverse_mass;
     }
     grid.velocity_adjoint.store(n, momentum_bar);
     grid.mass_adjoint[n] = mass_bar;
@@ -118,7 +118,7 @@ void step_backward(const Exec& exec, const StepParams<T>& params, const Particle
                    const StateView<const T>& out_adjoint, const InputAdjoints<T>& in_adjoint) {
   // Recompute the grid (and zero its adjoint planes) from the step's inputs.
   grid_forward(exec, params, in, scratch);
-  const DenseGridView<T> grid(params.cells, scratch);
+  const DenseGridView<T> grid(params.domain.cells, scratch);
   for_each(exec, in.count, GridToParticleAdjoint<T>{params, in, grid, out_adjoint, in_adjoint});
   for_each(exec, grid.count, UpdateGridAdjoint<T>{params, grid});
   for_each(exec, in.count, ParticleToGridAdjoint<T>{params, in, grid, in_adjoint});

@@ -28,7 +28,7 @@ struct ParticleToGrid {
     const mpm::QuadraticStencil<T> stencil(in.x.load(p), inverse_dx(step));
     for_each_stencil_node(step, grid, stencil, [&](const StencilNode<T>& node) {
       romp::atomic_add(&grid.mass[node.index], node.weight * mass);
-      atomic_add(grid.momentum, node.index, node.weight * (momentum + affine * node.offset));
+      atomic_add(grid.momentum, node.index, mpm::node_momentum(node.weight, momentum, affine, node.offset));
     });
   }
 };
@@ -43,8 +43,8 @@ struct UpdateGrid {
   ROMP_HD void operator()(Index n) const {
     Vec3<T> v = Vec3<T>::zero();
     if (grid.mass[n] > T(0)) {
-      const NodeVelocity<T> node = node_velocity(step, grid, n);
-      v = hadamard(node.kept, node.free);
+      const NodeUpdate<T> node = node_update(step, grid, n);
+      v = hadamard(node.kept, node.velocity.free);
     }
     grid.velocity.store(n, v);
   }
@@ -62,8 +62,7 @@ struct GridToParticle {
     Vec3<T> x = in.x.load(p);
     const GatheredVelocity<T> gathered = gather_velocity(step, grid, mpm::QuadraticStencil<T>(x, inverse_dx(step)));
     x += step.dt * gathered.v;
-    for (int a = 0; a < 3; ++a) x[a] = clamp_to_domain(step, x[a], a);
-    out.x.store(p, x);
+    out.x.store(p, mpm::kept_inside_domain(step.domain, x, step.dx));
     out.v.store(p, gathered.v);
     out.C.store(p, gathered.C);
     out.F.store(p, (Mat3<T>::identity() + step.dt * gathered.C) * in.F.load(p));
@@ -74,11 +73,11 @@ struct GridToParticle {
 
 template <class T>
 void grid_forward(const Exec& exec, const StepParams<T>& params, const ParticleInputs<T>& in, Span<T> scratch) {
-  const Index nodes = dense_grid_nodes(params.cells);
+  const Index nodes = dense_grid_nodes(params.domain.cells);
   ROMP_CHECK(scratch.size() == kDenseGridPlanes * nodes, "diffmpm: scratch of " + std::to_string(scratch.size()) +
                                                              " scalars, the grid needs " +
                                                              std::to_string(kDenseGridPlanes * nodes));
-  const DenseGridView<T> grid(params.cells, scratch);
+  const DenseGridView<T> grid(params.domain.cells, scratch);
   for_each(exec, scratch.size(), ZeroScalars<T>{scratch});
   for_each(exec, in.count, ParticleToGrid<T>{params, in, grid});
   for_each(exec, nodes, UpdateGrid<T>{params, grid});
@@ -88,7 +87,7 @@ template <class T>
 void step_forward(const Exec& exec, const StepParams<T>& params, const ParticleInputs<T>& in, Span<T> scratch,
                   const StateView<T>& out) {
   grid_forward(exec, params, in, scratch);
-  for_each(exec, in.count, GridToParticle<T>{params, in, DenseGridView<T>(params.cells, scratch), out});
+  for_each(exec, in.count, GridToParticle<T>{params, in, DenseGridView<T>(params.domain.cells, scratch), out});
 }
 
 #define ROMP_DIFFMPM_FORWARD(T)                                                                                      \

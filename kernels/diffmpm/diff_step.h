@@ -15,7 +15,7 @@
 #include "kernels/core/span.h"
 #include "kernels/math/mat3_planes.h"
 #include "kernels/math/vec3.h"
-#include "kernels/mpm/contact.h"
+#include "kernels/mpm/domain_walls.h"
 
 namespace romp::diffmpm {
 
@@ -24,12 +24,9 @@ struct StepParams {
   T dt = T(0);
   T dx = T(0);
   Vec3<T> gravity = Vec3<T>::zero();
-  int cells[3] = {0, 0, 0};  // the domain is [0, cells dx] per axis; the grid has cells + 1 nodes per axis
-  // Nodes this close to a domain face are wall nodes (the engine's rule, see mpm::update_grid). The
-  // contact is frictionless: Separate removes only the velocity toward the wall, as the free-slip
-  // walls of the authors' code; Slip removes the normal velocity both ways; Sticky all of it.
-  int wall_cells = 0;
-  mpm::ContactType walls = mpm::ContactType::Separate;
+  // The box, its dense grid (cells + 1 nodes per axis) and its walls, whose frictionless rule is the
+  // engine's (mpm::wall_keep_mask): Separate is the free-slip wall of the authors' code.
+  mpm::Domain domain;
 };
 
 // The inputs of a step, n particles in the engine's planes. mass and volume are constants.
@@ -55,7 +52,7 @@ struct InputAdjoints {
   Mat3Planes<T> C, F, P;
 };
 
-// Both launchers need scratch of kDenseGridPlanes × dense_grid_nodes(params.cells) scalars (see
+// Both launchers need scratch of kDenseGridPlanes × dense_grid_nodes(params.domain.cells) scalars (see
 // dense_grid.h) on exec's backend. Outputs must not alias inputs. Instantiated for float and double.
 template <class T>
 void step_forward(const Exec& exec, const StepParams<T>& params, const ParticleInputs<T>& in, Span<T> scratch,

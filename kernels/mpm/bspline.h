@@ -20,7 +20,7 @@ struct QuadraticStencil {
     for (int a = 0; a < 3; ++a) {
       const T cell = x[a] * inverse_dx;
       // Truncation is floor(cell - 0.5) because the engine keeps particles at least one cell inside
-      // the domain [0, L]^3 (see kDomainMarginCells in grid_update.h).
+      // the domain [0, L]^3 (see kDomainMarginCells in domain_walls.h).
       base[a] = int(cell - T(0.5));
       fx[a] = cell - T(base[a]);
       const T d0 = T(1.5) - fx[a], d1 = fx[a] - T(1), d2 = fx[a] - T(0.5);

@@ -3,6 +3,7 @@
 #include "kernels/core/device_buffer.h"
 #include "kernels/core/for_each.h"
 #include "kernels/math/finite.h"
+#include "kernels/mpm/mls_transfer.h"
 #include "kernels/mpm/stencil_nodes.h"
 #include "kernels/mpm/step.h"
 
@@ -26,8 +27,8 @@ struct GridToParticle {
     } else {
       const QuadraticStencil<float> stencil(x, grid.inverse_dx);
       const StencilNodes nodes(stencil, grid.table);
-      Vec3<float> v_pic = Vec3<float>::zero(), dv_flip = Vec3<float>::zero();
-      Mat3<float> B = Mat3<float>::zero();
+      VelocityGather<float> gathered;
+      Vec3<float> dv_flip = Vec3<float>::zero();
       const bool flip = step.transfer == Transfer::PicFlip;
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
@@ -35,17 +36,16 @@ struct GridToParticle {
             const float w = stencil.weight(i, j, k);
             const Index n = nodes.node(i, j, k);
             const Vec3<float> v_node = grid.velocity.load(n);
-            v_pic += w * v_node;
-            B += Mat3<float>::outer(w * v_node, stencil.offset(i, j, k, grid.dx));
+            gathered.add(w, v_node, stencil.offset(i, j, k, grid.dx));
             if (flip) dv_flip += w * (v_node - grid.velocity_old.load(n));
           }
-      // C = B D^-1 (Hu et al. 2018): the affine velocity of APIC, and the MLS velocity gradient.
-      C = (kInverseInertiaScale * grid.inverse_dx * grid.inverse_dx) * B;
+      C = gathered.C(inverse_inertia(grid.inverse_dx));
+      const Vec3<float>& v_pic = gathered.v;
       v = flip ? step.flip_alpha * (particles.v.load(p) + dv_flip) + (1.0f - step.flip_alpha) * v_pic : v_pic;
       x += step.dt * v;
       F = (Mat3<float>::identity() + step.dt * C) * F;
     }
-    store_moved_particle(particles, step, p, kept_inside_domain(step, grid.dx, x), v, C, F);
+    store_moved_particle(particles, step, p, kept_inside_domain(step.domain, x, grid.dx), v, C, F);
   }
 };
 

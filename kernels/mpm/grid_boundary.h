@@ -6,18 +6,11 @@
 #include "kernels/math/vec3.h"
 #include "kernels/mpm/collider.h"
 #include "kernels/mpm/contact.h"
+#include "kernels/mpm/domain_walls.h"
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/mpm/step.h"
 
 namespace romp::mpm {
-
-// Whether a point at coordinate x along `axis` lies within wall_cells cells of the low face (inward
-// normal +e_axis) or of the high face (inward normal −e_axis). For a grid node (x = index × dx) this
-// is the test index < wall_cells exactly: float products of integers by one dx keep their order.
-ROMP_HD_INLINE bool near_low_wall(const StepParams& step, float x, float dx) { return x < float(step.wall_cells) * dx; }
-ROMP_HD_INLINE bool near_high_wall(const StepParams& step, int axis, float x, float dx) {
-  return x > float(step.domain_cells[axis] - step.wall_cells) * dx;
-}
 
 // Node n of the sparse grid: its integer coordinates (in cells) and its position.
 struct GridNode {
@@ -36,16 +29,27 @@ struct GridNode {
   }
 };
 
-// v after the walls (at rest) and then each collider that contains x: the grid update's rule at a
-// node, and an enriched domain corner's at the corner.
-ROMP_HD inline Vec3<float> resolve_boundaries(const StepParams& step, const Vec3<float>& x, float dx, Vec3<float> v) {
+// v after the domain walls (at rest): the frictionless rule of both MPMs (wall_keep_mask), or, on
+// Separate walls with friction, resolve_contact face by face, whose Coulomb term scales the tangential
+// velocity each face leaves to the next.
+ROMP_HD inline Vec3<float> resolve_walls(const StepParams& step, const Vec3<float>& x, float dx, Vec3<float> v) {
+  const Domain& domain = step.domain;
+  if (step.wall_friction == 0.0f || domain.wall_contact != ContactType::Separate)
+    return hadamard(wall_keep_mask(domain, x, dx, v), v);
   const Vec3<float> at_rest = Vec3<float>::zero();
   for (int a = 0; a < 3; ++a) {
-    if (near_low_wall(step, x[a], dx))
-      v = resolve_contact(v, at_rest, Vec3<float>::unit(a), step.wall_contact, step.wall_friction);
-    if (near_high_wall(step, a, x[a], dx))
-      v = resolve_contact(v, at_rest, -Vec3<float>::unit(a), step.wall_contact, step.wall_friction);
+    if (domain.near_low_wall(x[a], dx))
+      v = resolve_contact(v, at_rest, Vec3<float>::unit(a), ContactType::Separate, step.wall_friction);
+    if (domain.near_high_wall(a, x[a], dx))
+      v = resolve_contact(v, at_rest, -Vec3<float>::unit(a), ContactType::Separate, step.wall_friction);
   }
+  return v;
+}
+
+// v after the walls and then each collider that contains x: the grid update's rule at a node, and an
+// enriched domain corner's at the corner.
+ROMP_HD inline Vec3<float> resolve_boundaries(const StepParams& step, const Vec3<float>& x, float dx, Vec3<float> v) {
+  v = resolve_walls(step, x, dx, v);
   for (Index c = 0; c < step.colliders.size(); ++c) {
     const ColliderState& collider = step.colliders[c];
     const SignedDistance sd = signed_distance(collider, x);

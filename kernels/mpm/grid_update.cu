@@ -3,6 +3,7 @@
 #include "kernels/core/for_each.h"
 #include "kernels/math/finite.h"
 #include "kernels/mpm/grid_boundary.h"
+#include "kernels/mpm/mls_transfer.h"
 #include "kernels/mpm/step.h"
 
 namespace romp::mpm {
@@ -16,10 +17,9 @@ struct UpdateGrid {
     const float mass = grid.mass[n];
     if (mass <= 0.0f) return;  // velocity stays 0: no particle reads a massless node with weight > 0
     const float inverse_mass = 1.0f / mass;
-    Vec3<float> v = grid.velocity.load(n) * inverse_mass;
     if (grid.keeps_old_velocity()) grid.velocity_old.store(n, grid.velocity_old.load(n) * inverse_mass);
-    v += step.dt * step.gravity;
-    v = resolve_boundaries(step, GridNode(grid, n), v);
+    const NodeVelocity<float> node(grid.velocity.load(n), inverse_mass, step.dt, step.gravity);
+    const Vec3<float> v = resolve_boundaries(step, GridNode(grid, n), node.free);
     if (!is_finite(v)) atomic_min(&step.first_failure[int(Stage::GridUpdate)], std::int64_t(n));
     grid.velocity.store(n, v);
   }

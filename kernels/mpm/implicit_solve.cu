@@ -13,6 +13,7 @@
 #include "kernels/math/scatter.h"
 #include "kernels/mpm/bspline.h"
 #include "kernels/mpm/grid_boundary.h"
+#include "kernels/mpm/mls_transfer.h"
 #include "kernels/mpm/stencil_nodes.h"
 
 namespace romp::mpm {
@@ -24,13 +25,13 @@ using material::PrincipalStiffness;
 struct ParticleStencil {
   QuadraticStencil<float> stencil;
   StencilNodes nodes;
-  float d_inverse;  // D⁻¹ = kInverseInertiaScale / dx²
+  float d_inverse;  // D⁻¹ (mls_transfer.h)
   float dx;
 
   ROMP_HD ParticleStencil(const ParticleView& particles, const GridView& grid, Index p)
       : stencil(particles.x.load(p), grid.inverse_dx),
         nodes(stencil, grid.table),
-        d_inverse(kInverseInertiaScale * grid.inverse_dx * grid.inverse_dx),
+        d_inverse(inverse_inertia(grid.inverse_dx)),
         dx(grid.dx) {}
 
   ROMP_HD Vec3<float> weight_gradient(int i, int j, int k) const {
@@ -106,9 +107,9 @@ ROMP_HD_INLINE void hold_boundaries(const StepParams& step, const Vec3<float>& p
     else if (!(collider.contact == ContactType::Separate && separating)) held.hold(sd.normal);
   }
   for (int a = 0; a < 3; ++a) {
-    const bool low = near_low_wall(step, position[a], dx), high = near_high_wall(step, a, position[a], dx);
+    const bool low = step.domain.near_low_wall(position[a], dx), high = step.domain.near_high_wall(a, position[a], dx);
     if (!(low || high)) continue;
-    if (step.wall_contact == ContactType::Sticky) held.hold_all();
+    if (step.domain.wall_contact == ContactType::Sticky) held.hold_all();
     // Held unless v* moves away from the wall (inward normal +e_a on the low face, −e_a on the high one).
     if ((low && v[a] <= 0.0f) || (high && v[a] >= 0.0f)) held.hold(Vec3<float>::unit(a));
   }

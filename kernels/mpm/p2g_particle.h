@@ -6,6 +6,7 @@
 #include "kernels/material/material.h"
 #include "kernels/math/finite.h"
 #include "kernels/mpm/bspline.h"
+#include "kernels/mpm/mls_transfer.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/mpm/step.h"
@@ -26,11 +27,9 @@ struct P2GParticle {
     const material::MaterialParams<float>& params = step.materials[particles.material[p]];
     const Mat3<float> P = particle_first_piola(step, params, p, F);
     if (!is_finite(P)) atomic_min(&step.first_failure[int(Stage::P2G)], std::int64_t(p));
-    // MLS-MPM (Hu et al. 2018, Eq. 16 with D^-1 = 4/dx^2): the internal force enters as the affine
-    // impulse -dt V0 D^-1 P F^T, applied through the same (x_i - x_p) moments as APIC's C.
-    const float d_inverse = kInverseInertiaScale * grid.inverse_dx * grid.inverse_dx;
-    affine = (-step.dt * particles.volume0[p] * d_inverse) * times_transpose(P, F);
-    if (step.transfer == Transfer::Apic) affine += mass * particles.C.load(p);
+    const float k = stress_factor(step.dt, particles.volume0[p], inverse_inertia(grid.inverse_dx));
+    affine = step.transfer == Transfer::Apic ? affine_momentum(k, P, F, mass, particles.C.load(p))
+                                             : stress_impulse(k, P, F);
     momentum = mass * v;
     for (Index l = 0; l < step.loads.size(); ++l)
       if (step.loads[l].contains(x)) momentum += (mass * step.dt) * step.loads[l].acceleration;
@@ -39,7 +38,7 @@ struct P2GParticle {
   // The weight of node base + (i, j, k) and the momentum it receives.
   ROMP_HD float weight(int i, int j, int k) const { return stencil.weight(i, j, k); }
   ROMP_HD Vec3<float> momentum_to(int i, int j, int k, float w, float dx) const {
-    return w * (momentum + affine * stencil.offset(i, j, k, dx));
+    return node_momentum(w, momentum, affine, stencil.offset(i, j, k, dx));
   }
 };
 

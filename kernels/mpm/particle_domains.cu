@@ -17,6 +17,7 @@
 #include "kernels/svd/svd3.h"
 #include "kernels/mpm/grid_boundary.h"
 #include "kernels/mpm/bspline.h"
+#include "kernels/mpm/mls_transfer.h"
 #include "kernels/mpm/stencil_nodes.h"
 
 namespace romp::mpm {
@@ -99,8 +100,8 @@ struct CornersToGrid {
       if (domains.dirichlet_group[c] != kNoDirichletGroup) return;  // grid_to_corners moves it rigidly
       const float inverse_mass = 1.0f / mass;
       domains.v_old.store(c, inverse_mass * momentum);
-      const Vec3<float> v = inverse_mass * impulse + step.dt * step.gravity;
-      domains.v.store(c, resolve_boundaries(step, domains.x.load(c), grid.dx, v));
+      const NodeVelocity<float> corner(impulse, inverse_mass, step.dt, step.gravity);
+      domains.v.store(c, resolve_boundaries(step, domains.x.load(c), grid.dx, corner.free));
       return;
     }
     const QuadraticStencil<float> stencil(domains.x.load(c), grid.inverse_dx);
@@ -159,7 +160,7 @@ struct GridToCorners {
       }
     }
     // Keep the corner's stencil inside the domain, as grid_to_particle does for particles.
-    const Vec3<float> target = start + moved, kept = kept_inside_domain(step, grid.dx, target);
+    const Vec3<float> target = start + moved, kept = kept_inside_domain(step.domain, target, grid.dx);
     for (int a = 0; a < 3; ++a)
       if (kept[a] != target[a]) moved[a] = kept[a] - start[a];
     domains.x.store(c, start + moved);

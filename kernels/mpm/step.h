@@ -12,6 +12,7 @@
 #include "kernels/math/mat3.h"
 #include "kernels/math/mat3_planes.h"
 #include "kernels/mpm/collider.h"
+#include "kernels/mpm/domain_walls.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
 
@@ -21,10 +22,6 @@ enum class Transfer : std::int32_t {
   Apic = 0,     // MLS-MPM with APIC affine momentum (Hu et al. 2018); conserves angular momentum
   PicFlip = 1,  // PIC/FLIP blend of velocities; the affine matrix is kept only as the velocity gradient
 };
-
-// Particles strictly inside the domain by this many cells: their stencil never leaves [0, L]^3, and
-// the truncation in QuadraticStencil is a floor.
-inline constexpr float kDomainMarginCells = 1.0f;
 
 // A prescribed rigid motion over the substep [t, t + dt]: v(x) = linear + angular × (x − pivot(t)).
 struct RigidMotion {
@@ -85,10 +82,8 @@ struct StepParams {
   Vec3<float> gravity;
   Transfer transfer = Transfer::Apic;
   float flip_alpha = 0.95f;               // FLIP share of the PIC/FLIP blend
-  std::int32_t domain_cells[3] = {0, 0, 0};  // the domain is [0, cells dx] per axis
-  std::int32_t wall_cells = 0;            // nodes this close to a domain face are wall nodes
-  ContactType wall_contact = ContactType::Separate;
-  float wall_friction = 0.0f;
+  Domain domain;                          // the box, its wall bands and their contact
+  float wall_friction = 0.0f;             // Coulomb friction of Separate walls (resolve_walls)
   Span<const material::MaterialParams<float>> materials;
   Span<const ColliderState> colliders;
   Span<const RigidMotion> dirichlet;
@@ -121,14 +116,6 @@ void project_plasticity(const Exec& exec, const ParticleView& particles, const S
 // Records the first particle whose F is not finite as `stage`'s failure (after a stage that changed F
 // outside the kernels above, such as a host-evaluated plastic law).
 void record_non_finite_deformation(const Exec& exec, const ParticleView& particles, const StepParams& step, Stage stage);
-
-// x moved back to kDomainMarginCells inside the domain where it left that band, so its stencil stays
-// on the grid (walls normally stop particles and corners well before).
-ROMP_HD inline Vec3<float> kept_inside_domain(const StepParams& step, float dx, Vec3<float> x) {
-  for (int a = 0; a < 3; ++a)
-    x[a] = math::min(math::max(x[a], kDomainMarginCells * dx), (float(step.domain_cells[a]) - kDomainMarginCells) * dx);
-  return x;
-}
 
 // Stores a particle's new state, recording it as G2P's failure when any of it is not finite: the end
 // of grid_to_particle and of corners_to_particles.

@@ -23,7 +23,7 @@ struct AdvectTracer {
         for (int k = 0; k < 3; ++k)
           if (nodes.active(i, j, k)) velocity += stencil.weight(i, j, k) * grid.velocity.load(nodes.node(i, j, k));
     v.store(t, velocity);
-    x.store(t, kept_inside_domain(step, grid.dx, position + step.dt * velocity));
+    x.store(t, kept_inside_domain(step.domain, position + step.dt * velocity, grid.dx));
   }
 };
 

@@ -24,12 +24,11 @@ struct ConfigCapsule : torch::CustomClassHolder {
 template <class T>
 romp::diffmpm::StepParams<T> step_params(const DiffMpmConfig& config) {
   romp::diffmpm::StepParams<T> params;
-  params.dt = T(config.dt);
-  params.dx = T(config.dx);
-  params.gravity = Vec3<T>(T(config.gravity[0]), T(config.gravity[1]), T(config.gravity[2]));
-  for (int a = 0; a < 3; ++a) params.cells[a] = config.cells[a];
-  params.wall_cells = config.wall_cells;
-  params.walls = config.walls;
+  const mpm::DomainConfig<T> scalars = config.converted<T>();
+  params.dt = scalars.fixed_dt;
+  params.dx = scalars.dx;
+  params.gravity = scalars.gravity;
+  params.domain = config.domain();
   return params;
 }
 
@@ -66,7 +65,7 @@ romp::diffmpm::ParticleInputs<T> particle_inputs(const variable_list& in, const 
 }
 
 torch::Tensor grid_scratch(const DiffMpmConfig& config, const torch::Tensor& like) {
-  return torch::empty({romp::diffmpm::kDenseGridPlanes * romp::diffmpm::dense_grid_nodes(config.cells.data())}, like.options());
+  return torch::empty({romp::diffmpm::kDenseGridPlanes * romp::diffmpm::dense_grid_nodes(config.domain_cells.data())}, like.options());
 }
 
 class MpmStepFunction : public torch::autograd::Function<MpmStepFunction> {
@@ -135,9 +134,9 @@ DiffMpm::DiffMpm(const DiffMpmConfig& config, torch::Tensor mass, torch::Tensor 
   ROMP_CHECK(volume_.sizes() == mass_.sizes() && volume_.scalar_type() == mass_.scalar_type() &&
                  volume_.device() == mass_.device(),
              "DiffMpm: volume must match mass [n] in dtype and device");
-  ROMP_CHECK(config.dt > 0.0 && config.dx > 0.0, "DiffMpm: dt and dx must be positive");
+  ROMP_CHECK(config.fixed_dt > 0.0 && config.dx > 0.0, "DiffMpm: fixed_dt and dx must be positive");
   for (int a = 0; a < 3; ++a)
-    ROMP_CHECK(config.cells[a] > 2, "DiffMpm: the domain needs more than 2 cells per axis (margins of 1 cell)");
+    ROMP_CHECK(config.domain_cells[a] > 2, "DiffMpm: the domain needs more than 2 cells per axis (margins of 1 cell)");
 }
 
 MpmState DiffMpm::step(const MpmState& state, const torch::Tensor& P) const {

@@ -9,7 +9,7 @@
 
 #include <array>
 
-#include "kernels/mpm/contact.h"
+#include "kernels/mpm/domain_config.h"
 
 namespace romp::nn::diffmpm {
 
@@ -19,15 +19,16 @@ struct MpmState {
   torch::Tensor x, v, C, F;
 };
 
-// Scene constants of a differentiable simulation. Defaults: the training scene of Ma et al. 2023
-// (unit box on 20³ cells, dt = 5e-4 s, gravity 9.8 m/s², free-slip walls within 3 cells).
-struct DiffMpmConfig {
-  double dt = 5e-4;
-  double dx = 0.05;
-  std::array<int, 3> cells{20, 20, 20};  // the domain is [0, cells dx] per axis
-  std::array<double, 3> gravity{0.0, -9.8, 0.0};
-  int wall_cells = 3;
-  mpm::ContactType walls = mpm::ContactType::Separate;
+// Scene constants of a differentiable simulation: every substep takes fixed_dt; the walls are
+// frictionless, and cfl and max_dt (the engine's CFL step) do not apply. Defaults: the training scene
+// of Ma et al. 2023 (unit box on 20³ cells, dt = 5e-4 s, gravity 9.8 m/s², free-slip walls within 3 cells).
+struct DiffMpmConfig : mpm::DomainConfig<double> {
+  DiffMpmConfig() {
+    fixed_dt = 5e-4;
+    dx = 0.05;
+    domain_cells = {20, 20, 20};
+    gravity = Vec3<double>(0.0, -9.8, 0.0);
+  }
 };
 
 class DiffMpm {

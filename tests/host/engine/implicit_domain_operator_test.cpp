@@ -55,8 +55,8 @@ class DomainOperatorFixture {
         DeviceBuffer<std::int64_t>::from_host(exec_.backend, std::vector<std::int64_t>(kStageCount, kNoFailure));
     StepParams& step = system_.step;
     step.dt = dt;
-    for (int a = 0; a < 3; ++a) step.domain_cells[a] = kCells;
-    step.wall_cells = 2;
+    for (int a = 0; a < 3; ++a) step.domain.cells[a] = kCells;
+    step.domain.wall_cells = 2;
     step.materials = materials_.span();
     step.first_failure = failures_.span();
 

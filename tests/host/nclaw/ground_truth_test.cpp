@@ -59,12 +59,12 @@ std::string run(const test::ScratchFolder& folder, const std::string& text, cons
 TEST(GroundTruth, ReadsTheSceneConstantsAndEveryFrame) {
   const test::ScratchFolder folder;
   const GroundTruth truth = read_ground_truth(run(folder, cube_scene(), "cube.h5"));
-  EXPECT_DOUBLE_EQ(truth.config.dt, 5e-4);
+  EXPECT_DOUBLE_EQ(truth.config.fixed_dt, 5e-4);
   EXPECT_DOUBLE_EQ(truth.config.dx, 0.05);
-  EXPECT_EQ(truth.config.cells, (std::array<int, 3>{20, 20, 20}));
-  EXPECT_EQ(truth.config.gravity, (std::array<double, 3>{0.0, -9.8, 0.0}));
+  EXPECT_EQ(truth.config.domain_cells, (std::array<std::int32_t, 3>{20, 20, 20}));
+  EXPECT_EQ(truth.config.gravity, Vec3<double>(0.0, -9.8, 0.0));
   EXPECT_EQ(truth.config.wall_cells, 3);
-  EXPECT_EQ(truth.config.walls, mpm::ContactType::Separate);
+  EXPECT_EQ(truth.config.wall_contact, mpm::ContactType::Separate);
   EXPECT_EQ(truth.trajectory.frame_count(), kFrames + 1);
   EXPECT_EQ(truth.trajectory.particle_count(), 1000);
   EXPECT_EQ(read_ground_truth(folder.file("cube.h5"), 5).trajectory.frame_count(), 6);

@@ -59,8 +59,8 @@ StepParams<T> scene_params(int wall_cells, T gravity) {
   params.dt = T(2e-3);
   params.dx = T(1) / T(kCells);
   params.gravity = Vec3<T>(T(0), -gravity, T(0));
-  for (int a = 0; a < 3; ++a) params.cells[a] = kCells;
-  params.wall_cells = wall_cells;
+  for (int a = 0; a < 3; ++a) params.domain.cells[a] = kCells;
+  params.domain.wall_cells = wall_cells;
   return params;
 }
 
@@ -92,7 +92,7 @@ constexpr int kStatePlanes = 24;
 
 template <class T>
 DeviceBuffer<T> grid_scratch(const Exec& exec, const StepParams<T>& params) {
-  return DeviceBuffer<T>(exec.backend, kDenseGridPlanes * dense_grid_nodes(params.cells));
+  return DeviceBuffer<T>(exec.backend, kDenseGridPlanes * dense_grid_nodes(params.domain.cells));
 }
 
 // x', v', C', F' of one step, concatenated as in state_planes.

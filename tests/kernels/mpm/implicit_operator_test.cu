@@ -63,8 +63,8 @@ class ImplicitOperatorFixture {
 
     StepParams& step = system_.step;
     step.dt = dt;
-    for (int a = 0; a < 3; ++a) step.domain_cells[a] = kCells;
-    step.wall_cells = 2;  // far from the block: no wall holds a component
+    for (int a = 0; a < 3; ++a) step.domain.cells[a] = kCells;
+    step.domain.wall_cells = 2;  // far from the block: no wall holds a component
     step.materials = materials_.span();
     step.first_failure = failures_.span();
 
@@ -306,9 +306,9 @@ TEST(ImplicitUnknowns, WallsAndCollidersHoldTheDirectionsTheyFix) {
       DeviceBuffer<ColliderState>::from_host(exec.backend, std::vector<ColliderState>{sphere}, exec.stream);
   for (const ContactType contact : {ContactType::Separate, ContactType::Sticky}) {
     StepParams step;
-    for (int a = 0; a < 3; ++a) step.domain_cells[a] = kCells;
-    step.wall_cells = 3;
-    step.wall_contact = contact;
+    for (int a = 0; a < 3; ++a) step.domain.cells[a] = kCells;
+    step.domain.wall_cells = 3;
+    step.domain.wall_contact = contact;
     step.colliders = colliders.span();
     DeviceBuffer<float> projector(exec.backend, 9 * nodes);
     find_projectors(exec, grid, DomainView{}, step, Mat3Planes<float>(projector.data(), nodes));

@@ -31,8 +31,8 @@ Scene small_scene(torch::ScalarType dtype, uint64_t seed) {
   const auto options = torch::TensorOptions().dtype(dtype);
   DiffMpmConfig config;
   config.dx = 0.1;
-  config.cells = {10, 10, 10};
-  config.dt = 1e-3;
+  config.domain_cells = {10, 10, 10};
+  config.fixed_dt = 1e-3;
   const torch::Tensor steps = torch::arange(3, options) * 0.05;
   const std::vector<torch::Tensor> grid = torch::meshgrid({steps, steps, steps}, "ij");
   const torch::Tensor lattice = torch::stack({grid[0].flatten(), grid[1].flatten(), grid[2].flatten()});

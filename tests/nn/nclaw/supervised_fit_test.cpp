@@ -17,7 +17,7 @@ namespace {
 TEST(SupervisedFit, PlasticPairsOfAnElasticTrajectoryAreUnchangedF) {
   const test::TinyGroundTruth truth = test::tiny_ground_truth(10);
   ConstitutivePairs pairs;
-  add_plastic_pairs(truth.trajectory, truth.config.dt, pairs);
+  add_plastic_pairs(truth.trajectory, truth.config.fixed_dt, pairs);
   ASSERT_EQ(pairs.F_trial.sizes(), (std::vector<int64_t>{9, 10 * truth.trajectory.particle_count()}));
   EXPECT_LE((pairs.F_trial - pairs.F_projected).abs().max().item<double>(), 1e-6);
 }

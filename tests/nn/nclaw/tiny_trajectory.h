@@ -23,8 +23,8 @@ inline TinyGroundTruth tiny_ground_truth(int64_t steps) {
   const auto f32 = torch::TensorOptions().dtype(torch::kFloat32);
   diffmpm::DiffMpmConfig config;
   config.dx = 0.1;
-  config.cells = {10, 10, 10};
-  config.dt = 1e-3;
+  config.domain_cells = {10, 10, 10};
+  config.fixed_dt = 1e-3;
   const torch::Tensor side = torch::arange(4, f32) * 0.05f + 0.425f;
   const std::vector<torch::Tensor> grid = torch::meshgrid({side, side, side}, "ij");
   torch::Tensor x = torch::stack({grid[0].flatten(), grid[1].flatten(), grid[2].flatten()}).contiguous();
