@@ -28,24 +28,24 @@ void run_quadrature_suite(Context& context) {
   for (const Index nominal : {Index(32768), Index(262144)}) {
     const Index wanted = context.scaled(nominal, 4096);
     const float spacing = std::cbrt((high - low) * (high - low) * (high - low) / float(wanted));
-    FullOrderConfig config;
+    engine::FullOrderConfig config;
     config.dx = kParticlesPerCellPerAxis * spacing;
     const std::int32_t cells = std::int32_t(std::ceil(1.0f / config.dx));
     config.domain_cells = {cells, cells, cells};
-    config.materials = {nclaw_material(NclawMaterial::Jelly)};
+    config.materials = {scene::nclaw_material(scene::NclawMaterial::Jelly)};
     const geometry::SamplingSpec lattice{geometry::SamplingMethod::Lattice, kParticlesPerCellPerAxis, config.dx};
     const mpm::ParticleInit body = geometry::sample_box(Vec3<float>::constant(low), Vec3<float>::constant(high),
                                                        lattice, config.materials[0].density);
     const Index n = body.count();
     for (const Exec& exec : context.execs()) {
       double every_point = 0.0;
-      for (const NeighbourSearch search : {NeighbourSearch::Never, NeighbourSearch::Always}) {
-        ReducedOptions options;
+      for (const engine::NeighbourSearch search : {engine::NeighbourSearch::Never, engine::NeighbourSearch::Always}) {
+        engine::ReducedOptions options;
         options.samples = kSamples;
         options.neighbour_search = search;
-        ReducedSim sim(exec, config, body, map, std::vector<float>(6, 0.0f), options);
+        engine::ReducedSim sim(exec, config, body, map, std::vector<float>(6, 0.0f), options);
         const float dt = sim.stable_dt();
-        const std::string mode = search == NeighbourSearch::Never ? "every_point" : "neighbours";
+        const std::string mode = search == engine::NeighbourSearch::Never ? "every_point" : "neighbours";
         const Measurement& m = context.time(
             "quadrature", fmt::format("lagrangian_{}k_{}", nominal / 1024, mode), exec, 1, "substep",
             [&] { sim.substep(dt); }, 0.0,
@@ -57,7 +57,7 @@ void run_quadrature_suite(Context& context) {
         double total = 0.0;
         for (const auto& [stage, seconds] : sim.stage_seconds()) total += seconds;
         for (const auto& [stage, seconds] : sim.stage_seconds()) context.record(where + ".share." + stage, seconds / total);
-        if (search == NeighbourSearch::Never)
+        if (search == engine::NeighbourSearch::Never)
           every_point = m.median_seconds();
         else
           context.record(where + ".speedup_over_every_point", every_point / m.median_seconds());

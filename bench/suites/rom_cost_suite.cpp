@@ -26,14 +26,14 @@ namespace {
 // The reduced setups timed: the paper's real-time pair (Eulerian, velocity-only), its position-velocity
 // variant, and Lagrangian velocity-only, which decodes every point to find the samples' neighbours.
 struct CostCase {
-  RomQuadrature quadrature;
-  RomProjection projection;
+  engine::RomQuadrature quadrature;
+  engine::RomProjection projection;
   const char* name;
 };
 constexpr CostCase kCases[] = {
-    {RomQuadrature::Eulerian, RomProjection::Velocity, "eulerian_velocity"},
-    {RomQuadrature::Eulerian, RomProjection::PositionVelocity, "eulerian_position"},
-    {RomQuadrature::Lagrangian, RomProjection::Velocity, "lagrangian_velocity"},
+    {engine::RomQuadrature::Eulerian, engine::RomProjection::Velocity, "eulerian_velocity"},
+    {engine::RomQuadrature::Eulerian, engine::RomProjection::PositionVelocity, "eulerian_position"},
+    {engine::RomQuadrature::Lagrangian, engine::RomProjection::Velocity, "lagrangian_velocity"},
 };
 
 }  // namespace
@@ -63,7 +63,7 @@ void run_rom_cost_suite(Context& context) {
   fmt::print("rom-cost {}: {} material points, dx = {:.4g} m\n", options.scene, n, setup.config.dx);
 
   for (const Exec& exec : context.execs()) {
-    FullOrderSim full(exec, setup.config, setup.particles);
+    engine::FullOrderSim full(exec, setup.config, setup.particles);
     const float full_dt = full.stable_dt();
     const Measurement& f = context.time(
         "rom-cost", "full_order", exec, n, "particle-substep", [&] { full.substep(full_dt); }, 0.0,
@@ -76,11 +76,11 @@ void run_rom_cost_suite(Context& context) {
 
     for (const CostCase& c : kCases)
       for (const int samples : options.rom_samples) {
-        ReducedOptions reduced;
+        engine::ReducedOptions reduced;
         reduced.quadrature = c.quadrature;
         reduced.projection = c.projection;
         reduced.samples = Index(samples);
-        ReducedSim sim(exec, setup.config, setup.particles, map, std::vector<float>(6, 0.0f), reduced);
+        engine::ReducedSim sim(exec, setup.config, setup.particles, map, std::vector<float>(6, 0.0f), reduced);
         const float dt = sim.stable_dt();
         const std::string name =
             fmt::format("{}_{}", c.name, samples == 0 ? std::string("all") : std::to_string(samples));
@@ -90,12 +90,12 @@ void run_rom_cost_suite(Context& context) {
         const double per_second = m.median_seconds() / dt;
         context.record(key + ".wall_per_simulated_second", per_second);
         context.record(key + ".speedup", full_per_second / per_second);
-        const double quadrature_points = c.quadrature == RomQuadrature::Eulerian
+        const double quadrature_points = c.quadrature == engine::RomQuadrature::Eulerian
                                              ? double(sim.last_quadrature_count())
                                              : double(sim.lagrangian_quadrature_points()) / double(sim.steps());
         context.record(key + ".quadrature_points_per_substep", quadrature_points);
         std::string evaluations;
-        if (c.quadrature == RomQuadrature::Eulerian && sim.eulerian_points() > 0) {
+        if (c.quadrature == engine::RomQuadrature::Eulerian && sim.eulerian_points() > 0) {
           // What inverting g costs per point: evaluations of g, those with both Jacobians (each three
           // reverse sweeps more), and the quasi-Newton iterations.
           const double points = double(sim.eulerian_points());
@@ -109,7 +109,7 @@ void run_rom_cost_suite(Context& context) {
                                     "Jacobians), {:.2f} iterations",
                                     per_point[0], per_point[1], per_point[2]);
         }
-        if (c.projection == RomProjection::PositionVelocity) {
+        if (c.projection == engine::RomProjection::PositionVelocity) {
           // Each linearisation evaluates g and ∂g/∂x̂ at the samples, inside one block on CUDA.
           const double per_substep = double(sim.gauss_newton_linearisations()) / double(sim.steps());
           const double unconverged = double(sim.unconverged_projections()) / double(sim.steps());

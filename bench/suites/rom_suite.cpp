@@ -27,12 +27,12 @@ double frame_time(const scene::Scene& scene, std::int64_t frame) {
 }
 
 struct ReducedCase {
-  RomQuadrature quadrature;
-  RomProjection projection;
+  engine::RomQuadrature quadrature;
+  engine::RomProjection projection;
   Index samples;  // 0: all
   std::string name() const {
-    return fmt::format("{}_{}_{}", quadrature == RomQuadrature::Eulerian ? "eulerian" : "lagrangian",
-                       projection == RomProjection::Velocity ? "velocity" : "position",
+    return fmt::format("{}_{}_{}", quadrature == engine::RomQuadrature::Eulerian ? "eulerian" : "lagrangian",
+                       projection == engine::RomProjection::Velocity ? "velocity" : "position",
                        samples == 0 ? std::string("all") : std::to_string(samples));
   }
 };
@@ -47,7 +47,7 @@ void run_rom_suite(Context& context) {
   }
   const scene::Scene scene = scene::load_scene(options.scene, options.parameters);
   const scene::SceneSetup setup = scene::build_scene(scene);
-  const LoadedReducedModel model = load_reduced_model(options.rom_model, setup.particles);
+  const engine::LoadedReducedModel model = engine::load_reduced_model(options.rom_model, setup.particles);
   const std::int64_t frames = scene.frame_count;
   fmt::print("rom      {}: {} material points, {} frames to t = {} s; {}\n", options.scene, setup.particles.count(),
              frames, scene.end_time, model.description);
@@ -58,7 +58,7 @@ void run_rom_suite(Context& context) {
     const Measurement full = context.time(
         "rom", "full_order", exec, frames, "frame",
         [&] {
-          FullOrderSim sim(exec, setup.config, setup.particles);
+          engine::FullOrderSim sim(exec, setup.config, setup.particles);
           reference.assign(1, sim.particles().positions_in_initial_order(exec));
           for (std::int64_t k = 1; k <= frames; ++k) {
             sim.advance_to(frame_time(scene, k));
@@ -71,11 +71,11 @@ void run_rom_suite(Context& context) {
     context.record(fmt::format("rom.full_order.{}.wall_per_simulated_second", place), full_per_second);
 
     std::vector<ReducedCase> cases;
-    for (const RomQuadrature quadrature : {RomQuadrature::Lagrangian, RomQuadrature::Eulerian})
-      for (const RomProjection projection : {RomProjection::PositionVelocity, RomProjection::Velocity})
+    for (const engine::RomQuadrature quadrature : {engine::RomQuadrature::Lagrangian, engine::RomQuadrature::Eulerian})
+      for (const engine::RomProjection projection : {engine::RomProjection::PositionVelocity, engine::RomProjection::Velocity})
         for (const int samples : options.rom_samples) cases.push_back({quadrature, projection, Index(samples)});
     for (const ReducedCase& c : cases) {
-      ReducedOptions reduced;
+      engine::ReducedOptions reduced;
       reduced.quadrature = c.quadrature;
       reduced.projection = c.projection;
       reduced.samples = c.samples;
@@ -86,7 +86,7 @@ void run_rom_suite(Context& context) {
       const Measurement m = context.time(
           "rom", c.name(), exec, frames, "frame",
           [&] {
-            ReducedSim sim(exec, setup.config, setup.particles, model.map, model.xhat, reduced);
+            engine::ReducedSim sim(exec, setup.config, setup.particles, model.map, model.xhat, reduced);
             run::PositionErrorAccumulator accumulator;
             accumulator.add_frame(0.0, sim.decode_positions(), reference[0]);
             for (std::int64_t k = 1; k <= frames; ++k) {

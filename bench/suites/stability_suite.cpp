@@ -35,7 +35,7 @@ bool wanted(const Options& options, const char* name, bool value) {
 
 void run_stability_suite(Context& context) {
   const Options& options = context.options();
-  StabilityBudget budget;
+  analysis::StabilityBudget budget;
   budget.max_substeps = std::int64_t(parameter(options, "substeps", 20000));
   budget.max_wall_seconds = parameter(options, "seconds", 20.0);
   const double min_youngs = parameter(options, "min_youngs", 0.0);
@@ -48,17 +48,17 @@ void run_stability_suite(Context& context) {
     for (const double youngs : {1e4, 1e6, 1e8, 1e9}) {
       if (youngs < min_youngs || youngs > max_youngs) continue;
       for (const double poisson : {0.0, 0.3, 0.45, 0.49})
-        for (const StabilityScenario scenario :
-             {StabilityScenario::FreeFallBounce, StabilityScenario::CompressRelease, StabilityScenario::ForcedInversion,
-              StabilityScenario::Spin, StabilityScenario::WallImpact})
+        for (const analysis::StabilityScenario scenario :
+             {analysis::StabilityScenario::FreeFallBounce, analysis::StabilityScenario::CompressRelease, analysis::StabilityScenario::ForcedInversion,
+              analysis::StabilityScenario::Spin, analysis::StabilityScenario::WallImpact})
           for (const bool implicit : {false, true})
             for (const bool enriched : {false, true}) {
               if (!wanted(options, "implicit", implicit) || !wanted(options, "enriched", enriched)) continue;
-              const StabilityCase c{model, youngs, poisson, scenario, enriched, implicit};
-              const StabilityOutcome outcome = run_stability_case(exec, c, budget);
+              const analysis::StabilityCase c{model, youngs, poisson, scenario, enriched, implicit};
+              const analysis::StabilityOutcome outcome = analysis::run_stability_case(exec, c, budget);
               ++cases;
               acceptable += outcome.acceptable();
-              finished += outcome.status == StabilityOutcome::Status::Finished && outcome.acceptable();
+              finished += outcome.status == analysis::StabilityOutcome::Status::Finished && outcome.acceptable();
               const std::string key = "stability." + c.name();
               context.record(key + ".acceptable", outcome.acceptable() ? 1.0 : 0.0);
               context.record(key + ".simulated_fraction", outcome.simulated_seconds / outcome.end_seconds);

@@ -18,36 +18,36 @@ constexpr int kParticlesPerCellPerAxis = 2;
 
 struct StepCase {
   const char* name;
-  NclawMaterial material;
+  scene::NclawMaterial material;
   Vec3<float> low, high;  // the body, in the unit-cube domain
   Vec3<float> velocity;
 };
 
 // The body is resampled so that it holds about `particles` particles at 2 per cell per axis.
-FullOrderSim make_sim(const Exec& exec, const StepCase& c, Index particles, P2GKernel p2g) {
+engine::FullOrderSim make_sim(const Exec& exec, const StepCase& c, Index particles, engine::P2GKernel p2g) {
   const Vec3<float> extent = c.high - c.low;
   const float volume = extent[0] * extent[1] * extent[2];
   const float spacing = std::cbrt(volume / float(particles));
   const float dx = kParticlesPerCellPerAxis * spacing;
-  FullOrderConfig config;
+  engine::FullOrderConfig config;
   config.dx = dx;
   const std::int32_t cells = std::int32_t(std::ceil(1.0f / dx));
   config.domain_cells = {cells, cells, cells};
-  config.materials = {nclaw_material(c.material)};
+  config.materials = {scene::nclaw_material(c.material)};
   config.p2g = p2g;
   const geometry::SamplingSpec lattice{geometry::SamplingMethod::Lattice, kParticlesPerCellPerAxis, dx};
   mpm::ParticleInit init = geometry::sample_box(c.low, c.high, lattice, config.materials[0].density);
   for (Index p = 0; p < init.count(); ++p)
     for (int a = 0; a < 3; ++a) init.v[a * init.count() + p] = c.velocity[a];
-  return FullOrderSim(exec, config, init);
+  return engine::FullOrderSim(exec, config, init);
 }
 
 }  // namespace
 
 void run_step_suite(Context& context) {
   const StepCase cases[] = {
-      {"jelly_cube", NclawMaterial::Jelly, {0.25f, 0.25f, 0.25f}, {0.75f, 0.75f, 0.75f}, {1.0f, -1.5f, -2.0f}},
-      {"sand_column", NclawMaterial::Sand, {0.4f, 0.1f, 0.4f}, {0.6f, 0.7f, 0.6f}, {0.0f, 0.0f, 0.0f}},
+      {"jelly_cube", scene::NclawMaterial::Jelly, {0.25f, 0.25f, 0.25f}, {0.75f, 0.75f, 0.75f}, {1.0f, -1.5f, -2.0f}},
+      {"sand_column", scene::NclawMaterial::Sand, {0.4f, 0.1f, 0.4f}, {0.6f, 0.7f, 0.6f}, {0.0f, 0.0f, 0.0f}},
   };
   for (const Index nominal : {Index(100000), Index(1000000)}) {
     const Index particles = context.scaled(nominal, 1000);
@@ -55,11 +55,11 @@ void run_step_suite(Context& context) {
     const int substeps = nominal >= 1000000 ? 2 : 10;
     for (const StepCase& c : cases)
       for (const Exec& exec : context.execs())
-        for (const P2GKernel p2g : {P2GKernel::Portable, P2GKernel::Tiled}) {
-          FullOrderSim sim = make_sim(exec, c, particles, p2g);
+        for (const engine::P2GKernel p2g : {engine::P2GKernel::Portable, engine::P2GKernel::Tiled}) {
+          engine::FullOrderSim sim = make_sim(exec, c, particles, p2g);
           const float dt = sim.stable_dt();
           const Index n = sim.particles().count();
-          const std::string kernel = p2g == P2GKernel::Tiled ? "tiled" : "portable";
+          const std::string kernel = p2g == engine::P2GKernel::Tiled ? "tiled" : "portable";
           const Measurement& m = context.time(
               "step", fmt::format("{}_{}k_{}", c.name, nominal / 1000, kernel), exec, n * substeps,
               "particle-substep",

@@ -3,9 +3,9 @@
 
 #include <vector>
 
-namespace romp {
+namespace romp::analysis {
 
-double mechanical_energy(FullOrderSim& sim, const mpm::ParticleInit& init, const Vec3<float>& origin) {
+double mechanical_energy(engine::FullOrderSim& sim, const mpm::ParticleInit& init, const Vec3<float>& origin) {
   const Exec& exec = sim.exec();
   const std::vector<float> x = sim.particles().positions_in_initial_order(exec);
   const std::vector<float> v = sim.particles().velocities_in_initial_order(exec);
@@ -29,4 +29,4 @@ double mechanical_energy(FullOrderSim& sim, const mpm::ParticleInit& init, const
   return energy;
 }
 
-}  // namespace romp
+}  // namespace romp::analysis

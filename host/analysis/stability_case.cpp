@@ -15,7 +15,7 @@
 #include "host/geometry/sampling.h"
 #include "kernels/material/lame.h"
 
-namespace romp {
+namespace romp::analysis {
 namespace {
 
 constexpr float kDx = 0.01f;           // a 20-cell domain of 0.2 m
@@ -59,7 +59,7 @@ material::MaterialParams<float> elastic_params(const StabilityCase& c) {
 }
 
 struct Setup {
-  FullOrderConfig config;
+  engine::FullOrderConfig config;
   mpm::ParticleInit init;
   double end = 0.0;
   double reference_time = 0.0;  // energies after this instant are compared with the energy at it
@@ -67,14 +67,14 @@ struct Setup {
 
 Setup build(const StabilityCase& c) {
   Setup s;
-  FullOrderConfig& config = s.config;
+  engine::FullOrderConfig& config = s.config;
   config.dx = kDx;
   config.domain_cells = {kCells, kCells, kCells};
   config.gravity = Vec3<float>::zero();
-  config.materials = {MaterialSpec{elastic_params(c), kDensity}};
+  config.materials = {engine::MaterialSpec{elastic_params(c), kDensity}};
   config.enrichment_threshold = c.enriched ? 0.6f : 0.0f;
   if (c.implicit) {
-    config.integrator = Integrator::Implicit;
+    config.integrator = engine::Integrator::Implicit;
     config.cfl = kImplicitStabilityCfl;
   }
   config.transfer = mpm::Transfer::PicFlip;  // the enriched-MPM paper's transfer, for both variants
@@ -109,7 +109,7 @@ Setup build(const StabilityCase& c) {
       plate.half_extents = Vec3<float>(0.08f, 0.02f, 0.08f);
       plate.center = Vec3<float>(centre, high[1] + plate.half_extents[1], centre);
       plate.linear_velocity = Vec3<float>(0.0f, -0.95f * kSide / 0.1f, 0.0f);
-      config.colliders = {ColliderSpec{plate, 0.1}};
+      config.colliders = {engine::ColliderSpec{plate, 0.1}};
       config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
       s.end = 0.3;
       s.reference_time = 0.1;
@@ -118,8 +118,8 @@ Setup build(const StabilityCase& c) {
     case StabilityScenario::ForcedInversion: {
       // The top layer is driven 1.5 heights down, through the bottom layer, which holds still.
       const float layer = 0.5f * kDx;
-      config.dirichlet = {DirichletSpec{Vec3<float>::constant(centre), Vec3<float>::zero(), Vec3<float>::zero(), 0.1},
-                          DirichletSpec{Vec3<float>::constant(centre), Vec3<float>(0.0f, -1.5f * kSide / 0.1f, 0.0f),
+      config.dirichlet = {engine::DirichletSpec{Vec3<float>::constant(centre), Vec3<float>::zero(), Vec3<float>::zero(), 0.1},
+                          engine::DirichletSpec{Vec3<float>::constant(centre), Vec3<float>(0.0f, -1.5f * kSide / 0.1f, 0.0f),
                                         Vec3<float>::zero(), 0.1}};
       for (Index p = 0; p < n; ++p) {
         const float y = init.x[std::size_t(n + p)];
@@ -183,7 +183,7 @@ StabilityOutcome run_stability_case(const Exec& exec, const StabilityCase& c, co
   const auto start = std::chrono::steady_clock::now();
   const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   try {
-    FullOrderSim sim(exec, setup.config, setup.init);
+    engine::FullOrderSim sim(exec, setup.config, setup.init);
     // About 50 energy samples per case: enough to see growth, cheap beside the substeps.
     const double sample_interval = setup.end / 50.0;
     double next_sample = 0.0;
@@ -214,7 +214,7 @@ StabilityOutcome run_stability_case(const Exec& exec, const StabilityCase& c, co
     outcome.simulated_seconds = sim.time();
     outcome.substeps = sim.steps();
     outcome.largest_enriched_share = sim.enrichment_statistics().largest_share;
-  } catch (const NonFiniteError& error) {
+  } catch (const engine::NonFiniteError& error) {
     outcome.status = StabilityOutcome::Status::NonFinite;
     outcome.message = error.what();
   } catch (const Error& error) {
@@ -225,4 +225,4 @@ StabilityOutcome run_stability_case(const Exec& exec, const StabilityCase& c, co
   return outcome;
 }
 
-}  // namespace romp
+}  // namespace romp::analysis

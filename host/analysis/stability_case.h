@@ -9,7 +9,7 @@
 #include "kernels/core/exec.h"
 #include "kernels/material/material.h"
 
-namespace romp {
+namespace romp::analysis {
 
 enum class StabilityScenario {
   FreeFallBounce,   // dropped on the floor, 0.4 s
@@ -67,4 +67,4 @@ inline constexpr double kStabilityEnergyBound = 2.0;
 
 StabilityOutcome run_stability_case(const Exec& exec, const StabilityCase& c, const StabilityBudget& budget);
 
-}  // namespace romp
+}  // namespace romp::analysis

@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
   } catch (const romp::io::UnusableFileError& error) {
     spdlog::error("{}", error.what());
     return kExitInvalidInput;
-  } catch (const romp::NonFiniteError& error) {
+  } catch (const romp::engine::NonFiniteError& error) {
     spdlog::error("{}", error.what());
     return kExitNonFinite;
   } catch (const std::exception& error) {

@@ -11,7 +11,7 @@
 #include "host/engine/stage_clock.h"
 #include "kernels/core/memory.h"
 
-namespace romp {
+namespace romp::engine {
 
 FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::ParticleInit& init)
     : exec_(exec),
@@ -170,4 +170,4 @@ std::vector<std::pair<std::string, double>> FullOrderSim::stage_seconds() const 
   return stage_table(stages_, stage_timeline_);
 }
 
-}  // namespace romp
+}  // namespace romp::engine

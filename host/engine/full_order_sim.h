@@ -22,7 +22,7 @@
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/mpm/step.h"
 
-namespace romp {
+namespace romp::engine {
 
 class NeuralMaterials;  // host/neural_materials.h: LibTorch stays out of this header
 
@@ -102,4 +102,4 @@ class FullOrderSim {
   EnrichmentStatistics enrichment_;
 };
 
-}  // namespace romp
+}  // namespace romp::engine

@@ -12,7 +12,7 @@
 #include "kernels/core/memory.h"
 #include "kernels/mpm/implicit_solve.h"
 
-namespace romp {
+namespace romp::engine {
 namespace {
 
 // Grows `buffer` to hold at least `size` elements, with slack so a grid that gains a few blocks
@@ -116,4 +116,4 @@ ImplicitSolveReport ImplicitGridSolver::solve(const Exec& exec, const mpm::Parti
   return report;
 }
 
-}  // namespace romp
+}  // namespace romp::engine

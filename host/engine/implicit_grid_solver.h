@@ -15,7 +15,7 @@
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/mpm/step.h"
 
-namespace romp {
+namespace romp::engine {
 
 struct ImplicitSolveReport {
   bool converged = false;
@@ -61,4 +61,4 @@ class ImplicitGridSolver {
   ImplicitSolveTotals totals_;
 };
 
-}  // namespace romp
+}  // namespace romp::engine

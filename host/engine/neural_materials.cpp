@@ -5,7 +5,7 @@
 #include "nn/nclaw/law_file.h"
 #include "nn/tensor_bridge.h"
 
-namespace romp {
+namespace romp::engine {
 namespace {
 
 // The float weights of a law's network, where the kernels read them (exec's device).
@@ -54,4 +54,4 @@ void NeuralMaterials::project_plasticity(const Exec& exec, const mpm::ParticleVi
   mpm::record_non_finite_deformation(exec, particles, step, mpm::Stage::Plasticity);
 }
 
-}  // namespace romp
+}  // namespace romp::engine

@@ -17,7 +17,7 @@
 #include "kernels/mpm/step.h"
 #include "nn/nclaw/neural_laws.h"
 
-namespace romp {
+namespace romp::engine {
 
 class NeuralMaterials {
  public:
@@ -46,4 +46,4 @@ class NeuralMaterials {
   DeviceBuffer<float> stress_;  // 9 planes
 };
 
-}  // namespace romp
+}  // namespace romp::engine

@@ -18,7 +18,7 @@
 #include "kernels/rom/reduced_dynamics.h"
 #include "kernels/rom/stencil_neighbours.h"
 
-namespace romp {
+namespace romp::engine {
 namespace {
 
 // The reduced step transfers as the ROM paper's Alg. 5: PIC momentum (no affine part) with the MLS
@@ -598,4 +598,4 @@ std::vector<float> ReducedSim::decode_positions() {
   return x.to_host(exec_.stream);
 }
 
-}  // namespace romp
+}  // namespace romp::engine

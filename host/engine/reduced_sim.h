@@ -35,7 +35,7 @@
 #include "kernels/rom/position_projection.h"
 #include "kernels/rom/sample_neighbourhood.h"
 
-namespace romp {
+namespace romp::engine {
 
 enum class RomQuadrature { Lagrangian, Eulerian };
 
@@ -239,4 +239,4 @@ class ReducedSim {
   mutable EventTimeline stage_timeline_;  // read when the table is asked for
 };
 
-}  // namespace romp
+}  // namespace romp::engine

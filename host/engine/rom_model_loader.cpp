@@ -7,7 +7,7 @@
 #include "nn/rom/fused_map.h"
 #include "nn/rom/rom_model_file.h"
 
-namespace romp {
+namespace romp::engine {
 
 LoadedReducedModel load_reduced_model(const std::string& path, const mpm::ParticleInit& particles) {
   const nn::rom::RomModel model = nn::rom::read_rom_model(path);
@@ -32,4 +32,4 @@ LoadedReducedModel load_reduced_model(const std::string& path, const mpm::Partic
   return loaded;
 }
 
-}  // namespace romp
+}  // namespace romp::engine

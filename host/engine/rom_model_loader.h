@@ -8,7 +8,7 @@
 #include "kernels/mpm/particle_set.h"
 #include "kernels/rom/deformation_map_eval.h"
 
-namespace romp {
+namespace romp::engine {
 
 struct LoadedReducedModel {
   rom::DeformationMapWeights map;
@@ -22,4 +22,4 @@ struct LoadedReducedModel {
 // file and both counts.
 LoadedReducedModel load_reduced_model(const std::string& path, const mpm::ParticleInit& particles);
 
-}  // namespace romp
+}  // namespace romp::engine

@@ -11,7 +11,7 @@
 #include "kernels/mpm/domain_config.h"
 #include "kernels/mpm/step.h"
 
-namespace romp {
+namespace romp::engine {
 
 struct MaterialSpec {
   material::MaterialParams<float> params;
@@ -90,4 +90,4 @@ struct FullOrderConfig : mpm::DomainConfig<float> {
   std::vector<DomainReleaseSpec> domain_releases;
 };
 
-}  // namespace romp
+}  // namespace romp::engine

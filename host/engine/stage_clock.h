@@ -10,7 +10,7 @@
 
 #include "kernels/core/event_timeline.h"
 
-namespace romp {
+namespace romp::engine {
 
 class StageClock {
  public:
@@ -37,4 +37,4 @@ inline std::vector<std::pair<std::string, double>> stage_table(const std::vector
   return table;
 }
 
-}  // namespace romp
+}  // namespace romp::engine

@@ -10,7 +10,7 @@
 #include "kernels/core/fill.h"
 #include "kernels/math/rotation.h"
 
-namespace romp {
+namespace romp::engine {
 
 StepInputs::StepInputs(const Exec& exec, const FullOrderConfig& config) : exec_(exec), config_(config) {
   ROMP_CHECK(config.dx > 0.0f, "grid spacing dx must be > 0");
@@ -166,4 +166,4 @@ void check_particle_domains(const FullOrderConfig& config, const mpm::ParticleIn
   check_dirichlet_groups(config, init.domains.corner_dirichlet_group, "domain corner");
 }
 
-}  // namespace romp
+}  // namespace romp::engine

@@ -16,7 +16,7 @@
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/step.h"
 
-namespace romp {
+namespace romp::engine {
 
 // Thrown when a stage produces a non-finite value; the run stops at the end of that substep.
 class NonFiniteError : public Error {
@@ -92,4 +92,4 @@ void check_particle_domains(const FullOrderConfig& config, const mpm::ParticleIn
 void check_particle_tables(const FullOrderConfig& config, const std::vector<std::int32_t>& material,
                            const std::vector<std::int32_t>& dirichlet_group);
 
-}  // namespace romp
+}  // namespace romp::engine

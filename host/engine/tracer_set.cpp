@@ -9,7 +9,7 @@
 #include "kernels/core/error.h"
 #include "kernels/mpm/tracers.h"
 
-namespace romp {
+namespace romp::engine {
 namespace {
 
 // The edge of the lattice cells the domains are (the same for every domain), from their corners' extent.
@@ -90,4 +90,4 @@ std::vector<float> TracerSet::merged(const std::vector<float>& values, const std
   return out;
 }
 
-}  // namespace romp
+}  // namespace romp::engine

@@ -15,7 +15,7 @@
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/mpm/step.h"
 
-namespace romp {
+namespace romp::engine {
 
 class TracerSet {
  public:
@@ -47,4 +47,4 @@ class TracerSet {
   DeviceBuffer<float> x_, v_;         // the grid-carried points, 3 planes each
 };
 
-}  // namespace romp
+}  // namespace romp::engine

@@ -39,7 +39,7 @@ nn::nclaw::LawFile fit_labeled_oracle(const GroundTruth& truth, const std::strin
              "labeled oracle: the ground truth's material is itself a learned law");
   ROMP_CHECK(stride >= 1, fmt::format("labeled oracle: the frame stride must be >= 1, got {}", stride));
   const nn::nclaw::Trajectory& t = truth.trajectory;
-  const material::MaterialParams<float> params = to_material_spec(material).params;
+  const material::MaterialParams<float> params = scene::to_material_spec(material).params;
   const int64_t steps = t.frame_count() - 1;
 
   nn::nclaw::ConstitutivePairs pairs;

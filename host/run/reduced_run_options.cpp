@@ -28,7 +28,7 @@ void add_reduced_run_options(CLI::App& run, ReducedRunOptions& options) {
 
 std::unique_ptr<Simulation> make_reduced_simulation(const ReducedRunOptions& options, const Exec& exec,
                                                     const scene::SceneSetup& setup) {
-  LoadedReducedModel model = load_reduced_model(options.model, setup.particles);
+  engine::LoadedReducedModel model = engine::load_reduced_model(options.model, setup.particles);
   spdlog::info("{}", model.description);
   // (Scenes with particle domains move their full-order particles through the domains' corners, a
   // discretisation the reduced step does not share whatever the transfer; scenes/README.md.)
@@ -36,9 +36,9 @@ std::unique_ptr<Simulation> make_reduced_simulation(const ReducedRunOptions& opt
     spdlog::warn("the reduced step transfers by PIC (ROM paper, Alg. 5) and this scene's full-order runs by APIC: "
                  "reduced runs will drift from them by the difference (3.3 % on the gravity cylinder); give the "
                  "scene [solver] transfer = \"pic-flip\", flip_alpha = 0 for its sweep and its reduced runs");
-  ReducedOptions reduced;
-  reduced.quadrature = options.quadrature == "eulerian" ? RomQuadrature::Eulerian : RomQuadrature::Lagrangian;
-  reduced.projection = options.projection == "velocity" ? RomProjection::Velocity : RomProjection::PositionVelocity;
+  engine::ReducedOptions reduced;
+  reduced.quadrature = options.quadrature == "eulerian" ? engine::RomQuadrature::Eulerian : engine::RomQuadrature::Lagrangian;
+  reduced.projection = options.projection == "velocity" ? engine::RomProjection::Velocity : engine::RomProjection::PositionVelocity;
   reduced.samples = options.samples;
   reduced.seed = options.seed;
   spdlog::info("reduced-order run: {} quadrature, {} projection, {} samples per substep", options.quadrature,

@@ -205,10 +205,10 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
         result.interrupted = true;
         break;
       }
-    } catch (const NonFiniteError& error) {
+    } catch (const engine::NonFiniteError& error) {
       if (options.progress) progress.finish();
       worker.drain();
-      throw NonFiniteError(fmt::format("{}; frames 0..{} are in {}", error.what(), frame - 1,
+      throw engine::NonFiniteError(fmt::format("{}; frames 0..{} are in {}", error.what(), frame - 1,
                                        io::partial_path(output)),
                            error.step(), error.stage(), error.index());
     }

@@ -12,10 +12,10 @@ namespace {
 
 class FullOrderRun final : public Simulation {
  public:
-  FullOrderRun(const Exec& exec, const FullOrderConfig& config, const mpm::ParticleInit& particles)
+  FullOrderRun(const Exec& exec, const engine::FullOrderConfig& config, const mpm::ParticleInit& particles)
       : sim_(exec, config, particles) {}
 
-  FullOrderSim& sim() { return sim_; }
+  engine::FullOrderSim& sim() { return sim_; }
   bool advance_to(double t, const std::function<bool()>& stop) override { return sim_.advance_to(t, stop); }
   io::FrameData capture() override {
     io::FrameData frame;
@@ -48,12 +48,12 @@ class FullOrderRun final : public Simulation {
   bool resumable() const override { return true; }
   std::vector<std::string> diagnostics() const override {
     std::vector<std::string> lines;
-    const EnrichmentStatistics& enrichment = sim_.enrichment_statistics();
+    const engine::EnrichmentStatistics& enrichment = sim_.enrichment_statistics();
     if (enrichment.substeps > 0)
       lines.push_back(fmt::format("enrichment: {:.1f}% of domain particles per substep on average, {:.1f}% at most (step {})",
                                   100.0 * enrichment.share_sum / double(enrichment.substeps),
                                   100.0 * enrichment.largest_share, enrichment.largest_share_step));
-    const ImplicitSolveTotals* totals = sim_.implicit_totals();
+    const engine::ImplicitSolveTotals* totals = sim_.implicit_totals();
     if (totals != nullptr && totals->solves > 0)
       lines.push_back(fmt::format("implicit solve: {} solves, {:.1f} CG iterations on average ({} at most), {} did not "
                                   "converge and kept the explicit velocities",
@@ -63,13 +63,13 @@ class FullOrderRun final : public Simulation {
   }
 
  private:
-  FullOrderSim sim_;
+  engine::FullOrderSim sim_;
 };
 
 class ReducedRun final : public Simulation {
  public:
-  ReducedRun(const Exec& exec, const FullOrderConfig& config, const mpm::ParticleInit& particles,
-             rom::DeformationMapWeights map, std::vector<float> xhat, const ReducedOptions& options)
+  ReducedRun(const Exec& exec, const engine::FullOrderConfig& config, const mpm::ParticleInit& particles,
+             rom::DeformationMapWeights map, std::vector<float> xhat, const engine::ReducedOptions& options)
       : sim_(exec, config, particles, std::move(map), std::move(xhat), options), X_(particles.x) {}
 
   bool advance_to(double t, const std::function<bool()>& stop) override { return sim_.advance_to(t, stop); }
@@ -102,7 +102,7 @@ class ReducedRun final : public Simulation {
 
  private:
   io::FrameData decoded_at(const std::vector<float>& X) {
-    ReducedSim::DecodedState state = sim_.decode(X);
+    engine::ReducedSim::DecodedState state = sim_.decode(X);
     io::FrameData frame;
     frame.time = sim_.time();
     frame.step = sim_.steps();
@@ -113,14 +113,14 @@ class ReducedRun final : public Simulation {
     return frame;
   }
 
-  ReducedSim sim_;
+  engine::ReducedSim sim_;
   std::vector<float> X_;         // the material points' reference positions
   std::vector<float> points_X_;  // track_points' points
 };
 
 }  // namespace
 
-std::unique_ptr<Simulation> full_order_simulation(const Exec& exec, const FullOrderConfig& config,
+std::unique_ptr<Simulation> full_order_simulation(const Exec& exec, const engine::FullOrderConfig& config,
                                                   const mpm::ParticleInit& particles, double time,
                                                   std::int64_t steps) {
   auto run = std::make_unique<FullOrderRun>(exec, config, particles);
@@ -128,9 +128,9 @@ std::unique_ptr<Simulation> full_order_simulation(const Exec& exec, const FullOr
   return run;
 }
 
-std::unique_ptr<Simulation> reduced_simulation(const Exec& exec, const FullOrderConfig& config,
+std::unique_ptr<Simulation> reduced_simulation(const Exec& exec, const engine::FullOrderConfig& config,
                                                const mpm::ParticleInit& particles, rom::DeformationMapWeights map,
-                                               std::vector<float> xhat, const ReducedOptions& options) {
+                                               std::vector<float> xhat, const engine::ReducedOptions& options) {
   return std::make_unique<ReducedRun>(exec, config, particles, std::move(map), std::move(xhat), options);
 }
 

@@ -52,15 +52,15 @@ class Simulation {
 };
 
 // The full-order engine from `particles`, its clock set to (time, steps) (non-zero when resumed).
-std::unique_ptr<Simulation> full_order_simulation(const Exec& exec, const FullOrderConfig& config,
+std::unique_ptr<Simulation> full_order_simulation(const Exec& exec, const engine::FullOrderConfig& config,
                                                   const mpm::ParticleInit& particles, double time = 0.0,
                                                   std::int64_t steps = 0);
 
 // The reduced-order engine: its frames decode x, F and v at every material point from x̂ (C is 0,
 // the ROM carries no affine velocity). Not resumable from a frame: its state is x̂, v̂ and x̂ of the
 // substep before, which a particle checkpoint does not hold.
-std::unique_ptr<Simulation> reduced_simulation(const Exec& exec, const FullOrderConfig& config,
+std::unique_ptr<Simulation> reduced_simulation(const Exec& exec, const engine::FullOrderConfig& config,
                                                const mpm::ParticleInit& particles, rom::DeformationMapWeights map,
-                                               std::vector<float> xhat, const ReducedOptions& options);
+                                               std::vector<float> xhat, const engine::ReducedOptions& options);
 
 }  // namespace romp::run

@@ -9,7 +9,7 @@
 
 #include <cmath>
 
-namespace romp {
+namespace romp::scene {
 
 std::optional<NclawMaterial> nclaw_material_named(const std::string& name) {
   if (name == "jelly") return NclawMaterial::Jelly;
@@ -67,7 +67,7 @@ material::Lame<float> neural_law_at_rest(const std::string& law_file) {
   return {float(at_rest.mu), float(at_rest.lambda)};
 }
 
-MaterialSpec to_material_spec(const scene::MaterialSpecification& m) {
+engine::MaterialSpec to_material_spec(const scene::MaterialSpecification& m) {
   using material::MaterialModel;
   using Params = material::MaterialParams<float>;
   const material::Lame<float> lame =
@@ -99,6 +99,6 @@ MaterialSpec to_material_spec(const scene::MaterialSpecification& m) {
   return {params, float(m.density), "", m.strength_off_from, m.strength_off_until};
 }
 
-MaterialSpec nclaw_material(NclawMaterial which) { return to_material_spec(nclaw_preset(which)); }
+engine::MaterialSpec nclaw_material(NclawMaterial which) { return to_material_spec(nclaw_preset(which)); }
 
-}  // namespace romp
+}  // namespace romp::scene

@@ -9,7 +9,7 @@
 #include "host/scene/scene.h"
 #include "kernels/material/lame.h"
 
-namespace romp {
+namespace romp::scene {
 
 // Ground-truth materials of the neural-constitutive-law paper (App. B; values from the authors'
 // code, listed in shared/papers/README.md). All have density 1e3 kg/m^3.
@@ -21,12 +21,12 @@ scene::MaterialSpecification nclaw_preset(NclawMaterial which);
 
 // Lamé parameters from E and ν, the return-map parameters, and the density for the CFL condition;
 // for a neural material, the law file and its stiffness at rest (neural_law_at_rest).
-MaterialSpec to_material_spec(const scene::MaterialSpecification& material);
+engine::MaterialSpec to_material_spec(const scene::MaterialSpecification& material);
 
 // μ and λ of a law file's elastic law linearised at F = I (nn::nclaw::rest_stiffness), for the CFL
 // condition. Throws romp::Error naming the file when it is not a law file or its law does not
 // resist compression at rest.
 material::Lame<float> neural_law_at_rest(const std::string& law_file);
-MaterialSpec nclaw_material(NclawMaterial which);
+engine::MaterialSpec nclaw_material(NclawMaterial which);
 
-}  // namespace romp
+}  // namespace romp::scene

@@ -58,7 +58,7 @@ struct MaterialSpecification {
   // Where the scene names the law ("file:line:column: materials.NAME.neural"): the parser checks only that
   // it is a law file, so an error in the law itself, found where the run is set up, is located there.
   std::string neural_law_source;
-  double strength_off_from = 0.0, strength_off_until = 0.0;  // s; no stiffness in between (MaterialSpec)
+  double strength_off_from = 0.0, strength_off_until = 0.0;  // s; no stiffness in between (engine::MaterialSpec)
 };
 
 struct ObjectSpec {

@@ -174,7 +174,7 @@ void read_time(SceneReader& r, TableReader t) {
     s.fixed_dt = t.number("dt", 0.0, step_range);
   } else {
     // The implicit step is stable beyond the explicit limit ([solver] is read first).
-    const double most_cfl = s.integrator == "implicit" ? double(kImplicitMaxCfl) : 1.0;
+    const double most_cfl = s.integrator == "implicit" ? double(engine::kImplicitMaxCfl) : 1.0;
     s.cfl = t.number("cfl", 0.5, Range::open_closed(0.0, most_cfl));
     s.max_dt = t.number("max_dt", 1e-3, step_range);
   }
@@ -228,7 +228,7 @@ MaterialSpecification read_material(TableReader t, const std::string& name, cons
     return m;
   }
   const std::string preset = t.choice("preset", "none", {"none", "jelly", "sand", "plasticine", "water"});
-  if (preset != "none") m = nclaw_preset(*nclaw_material_named(preset));
+  if (preset != "none") m = scene::nclaw_preset(*scene::nclaw_material_named(preset));
   static const std::vector<std::pair<std::string, MaterialModel>> kModels = {
       {"fixed-corotated", MaterialModel::FixedCorotated}, {"neo-hookean", MaterialModel::NeoHookean},
       {"hencky-stvk", MaterialModel::HenckyStVK},         {"von-mises", MaterialModel::VonMises},

@@ -35,14 +35,14 @@ mpm::Region to_region(const ShapeSpec& shape) {
   return region;
 }
 
-FullOrderConfig engine_config(const Scene& scene) {
-  FullOrderConfig c;
+engine::FullOrderConfig engine_config(const Scene& scene) {
+  engine::FullOrderConfig c;
   static_cast<mpm::DomainConfig<float>&>(c) = scene.converted<float>();
   c.transfer = scene.transfer == "apic" ? mpm::Transfer::Apic : mpm::Transfer::PicFlip;
   c.flip_alpha = float(scene.flip_alpha);
   c.enrichment_threshold = float(scene.enrichment);
-  c.integrator = scene.integrator == "implicit" ? Integrator::Implicit : Integrator::Explicit;
-  for (const MaterialSpecification& m : scene.materials) c.materials.push_back(to_material_spec(m));
+  c.integrator = scene.integrator == "implicit" ? engine::Integrator::Implicit : engine::Integrator::Explicit;
+  for (const MaterialSpecification& m : scene.materials) c.materials.push_back(scene::to_material_spec(m));
   for (const ColliderSpecification& s : scene.colliders) {
     mpm::ColliderState state;
     state.shape = s.shape;
@@ -53,18 +53,18 @@ FullOrderConfig engine_config(const Scene& scene) {
     state.half_extents = to_float(s.half_extents);
     state.linear_velocity = to_float(s.velocity);
     state.angular_velocity = to_float(s.angular_velocity);
-    c.colliders.push_back(ColliderSpec{state, s.end});
+    c.colliders.push_back(engine::ColliderSpec{state, s.end});
   }
   for (const DirichletGroupSpec& g : scene.dirichlet)
-    c.dirichlet.push_back(DirichletSpec{to_float(g.pivot), to_float(g.velocity), to_float(g.angular_velocity), g.end});
+    c.dirichlet.push_back(engine::DirichletSpec{to_float(g.pivot), to_float(g.velocity), to_float(g.angular_velocity), g.end});
   for (const PokeSpec& p : scene.pokes) {
     mpm::RegionLoad load;
     static_cast<mpm::Region&>(load) = to_region(p.region);
     load.acceleration = to_float(p.acceleration);
-    c.loads.push_back(RegionLoadSpec{load, p.start, p.end});
+    c.loads.push_back(engine::RegionLoadSpec{load, p.start, p.end});
   }
   for (const DomainReleaseSpecification& d : scene.domain_releases)
-    c.domain_releases.push_back(DomainReleaseSpec{to_region(d.region), d.start, d.end});
+    c.domain_releases.push_back(engine::DomainReleaseSpec{to_region(d.region), d.start, d.end});
   return c;
 }
 

@@ -13,7 +13,7 @@
 namespace romp::scene {
 
 struct SceneSetup {
-  FullOrderConfig config;
+  engine::FullOrderConfig config;
   mpm::ParticleInit particles;
   std::vector<Index> particles_per_object;  // in the order of Scene::objects
   // The surface of every mesh object with domains, riding in them (exported per frame as OBJ).

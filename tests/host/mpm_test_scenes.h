@@ -34,8 +34,8 @@ inline void set_plane_vector(std::vector<float>& planes, Index count, Index p, c
 }
 
 // A configuration with no gravity, no walls in reach, and one material.
-inline FullOrderConfig open_space_config(float dx, int cells, const MaterialSpec& material) {
-  FullOrderConfig config;
+inline engine::FullOrderConfig open_space_config(float dx, int cells, const engine::MaterialSpec& material) {
+  engine::FullOrderConfig config;
   config.dx = dx;
   config.domain_cells = {cells, cells, cells};
   config.gravity = Vec3<float>::zero();

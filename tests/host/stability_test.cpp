@@ -13,45 +13,45 @@
 namespace romp {
 namespace {
 
-using Params = std::tuple<StabilityScenario, bool, double>;
+using Params = std::tuple<analysis::StabilityScenario, bool, double>;
 
 class StabilityCases : public ::testing::TestWithParam<Params> {};
 
 TEST_P(StabilityCases, FinishFiniteWithBoundedEnergy) {
-  StabilityCase c;
+  analysis::StabilityCase c;
   std::tie(c.scenario, c.enriched, c.youngs_modulus) = GetParam();
   c.poissons_ratio = 0.3;
-  const StabilityOutcome outcome = run_stability_case(test::exec(), c, StabilityBudget{});
-  EXPECT_EQ(outcome.status, StabilityOutcome::Status::Finished) << c.name() << ": " << outcome.message;
+  const analysis::StabilityOutcome outcome = analysis::run_stability_case(test::exec(), c, analysis::StabilityBudget{});
+  EXPECT_EQ(outcome.status, analysis::StabilityOutcome::Status::Finished) << c.name() << ": " << outcome.message;
   EXPECT_TRUE(outcome.acceptable()) << c.name() << ": energy ratio " << outcome.energy_ratio;
 }
 
-const auto kScenarios = ::testing::Values(StabilityScenario::FreeFallBounce, StabilityScenario::CompressRelease,
-                                          StabilityScenario::ForcedInversion, StabilityScenario::Spin,
-                                          StabilityScenario::WallImpact);
+const auto kScenarios = ::testing::Values(analysis::StabilityScenario::FreeFallBounce, analysis::StabilityScenario::CompressRelease,
+                                          analysis::StabilityScenario::ForcedInversion, analysis::StabilityScenario::Spin,
+                                          analysis::StabilityScenario::WallImpact);
 INSTANTIATE_TEST_SUITE_P(Soft, StabilityCases, ::testing::Combine(kScenarios, ::testing::Bool(), ::testing::Values(1e4)));
 INSTANTIATE_TEST_SUITE_P(Stiff, StabilityCases, ::testing::Combine(kScenarios, ::testing::Values(false), ::testing::Values(1e6)));
 
 // The stiff cube, enriched, with the implicit step at 8 times the explicit cfl, through the scenarios
 // that enrich (measured: the largest share of enriched particles in one substep is 0.18 compressed,
 // 0.52 inverted and 0.75 at the wall): enriched corners are unknowns of the solve.
-class ImplicitEnrichedCases : public ::testing::TestWithParam<StabilityScenario> {};
+class ImplicitEnrichedCases : public ::testing::TestWithParam<analysis::StabilityScenario> {};
 
 TEST_P(ImplicitEnrichedCases, FinishFiniteWithBoundedEnergyWhileEnriched) {
-  StabilityCase c;
+  analysis::StabilityCase c;
   c.scenario = GetParam();
   c.youngs_modulus = 1e6;
   c.enriched = true;
   c.implicit = true;
-  const StabilityOutcome outcome = run_stability_case(test::exec(), c, StabilityBudget{});
-  EXPECT_EQ(outcome.status, StabilityOutcome::Status::Finished) << c.name() << ": " << outcome.message;
+  const analysis::StabilityOutcome outcome = analysis::run_stability_case(test::exec(), c, analysis::StabilityBudget{});
+  EXPECT_EQ(outcome.status, analysis::StabilityOutcome::Status::Finished) << c.name() << ": " << outcome.message;
   EXPECT_TRUE(outcome.acceptable()) << c.name() << ": energy ratio " << outcome.energy_ratio;
   EXPECT_GT(outcome.largest_enriched_share, 0.1) << c.name() << ": the case no longer enriches";
 }
 
 INSTANTIATE_TEST_SUITE_P(Stiff, ImplicitEnrichedCases,
-                         ::testing::Values(StabilityScenario::CompressRelease, StabilityScenario::ForcedInversion,
-                                           StabilityScenario::WallImpact));
+                         ::testing::Values(analysis::StabilityScenario::CompressRelease, analysis::StabilityScenario::ForcedInversion,
+                                           analysis::StabilityScenario::WallImpact));
 
 }  // namespace
 }  // namespace romp

@@ -21,14 +21,14 @@ namespace {
 
 constexpr float kJellyDensity = 1000.0f;
 
-MaterialSpec jelly(float young, float poisson) {
-  return MaterialSpec{material::MaterialParams<float>::fixed_corotated(material::lame_from_young_poisson(young, poisson)),
+engine::MaterialSpec jelly(float young, float poisson) {
+  return engine::MaterialSpec{material::MaterialParams<float>::fixed_corotated(material::lame_from_young_poisson(young, poisson)),
                       kJellyDensity};
 }
 
 // Jelly (E = 1e4 Pa, nu = 0.3) in open space at cell width dx under gravity, with a fixed 1e-4 s step.
-FullOrderConfig falling_jelly_config(float dx) {
-  FullOrderConfig config = test::open_space_config(dx, 32, jelly(1e4f, 0.3f));
+engine::FullOrderConfig falling_jelly_config(float dx) {
+  engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(1e4f, 0.3f));
   config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
   config.fixed_dt = 1e-4f;
   return config;
@@ -41,7 +41,7 @@ struct Momenta {
 
 // APIC momenta (Jiang et al. 2015): a particle's affine velocity field C (x − x_p) carries angular
 // momentum m D ε:C^T with D = dx²/4 for quadratic B-splines.
-Momenta momenta(FullOrderSim& sim, const std::vector<float>& mass) {
+Momenta momenta(engine::FullOrderSim& sim, const std::vector<float>& mass) {
   const Exec& exec = sim.exec();
   const std::vector<float> x = sim.particles().positions_in_initial_order(exec);
   const std::vector<float> v = sim.particles().velocities_in_initial_order(exec);
@@ -65,7 +65,7 @@ Momenta momenta(FullOrderSim& sim, const std::vector<float>& mass) {
 TEST(FullOrderSim, AdvanceStopsAtTheSubstepItIsAskedTo) {
   const float dx = 1.0f / 32.0f;
   const mpm::ParticleInit init = test::lattice_box({0.40f, 0.55f, 0.40f}, {0.50f, 0.65f, 0.50f}, dx, 2, kJellyDensity);
-  FullOrderSim sim(test::exec(), falling_jelly_config(dx), init);
+  engine::FullOrderSim sim(test::exec(), falling_jelly_config(dx), init);
   int asked = 0;
   EXPECT_FALSE(sim.advance_to(1.0, [&asked] { return ++asked > 3; }));
   EXPECT_EQ(sim.steps(), 3);
@@ -80,14 +80,14 @@ TEST(FullOrderSim, AdvanceStopsAtTheSubstepItIsAskedTo) {
 // of the displacement (1.2e-4 m) stays 20 times larger than the tolerance, so a wrong g shows.
 TEST(FullOrderSim, FreeFallFollowsTheParabola) {
   const float dx = 1.0f / 32.0f;
-  const FullOrderConfig config = falling_jelly_config(dx);
+  const engine::FullOrderConfig config = falling_jelly_config(dx);
   mpm::ParticleInit init = test::lattice_box({0.40f, 0.55f, 0.40f}, {0.50f, 0.65f, 0.50f}, dx, 2, kJellyDensity);
   const Vec3<float> v0(0.3f, 0.5f, -0.2f);
   const Index n = init.count();
   for (Index p = 0; p < n; ++p) test::set_plane_vector(init.v, n, p, v0);
   const std::vector<float> x0 = init.x;
 
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   const double t = 0.005;
   sim.advance_to(t);
   ASSERT_NEAR(sim.time(), t, 1e-9);
@@ -109,7 +109,7 @@ TEST(FullOrderSim, FreeFallFollowsTheParabola) {
 
 TEST(FullOrderSim, ApicConservesLinearAndAngularMomentum) {
   const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
+  engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
   mpm::ParticleInit init = test::lattice_box({0.40f, 0.40f, 0.40f}, {0.60f, 0.55f, 0.50f}, dx, 2, kJellyDensity);
   const Index n = init.count();
   const Vec3<float> center(0.5f, 0.475f, 0.45f), spin(1.0f, -2.0f, 3.0f), drift(0.1f, 0.05f, -0.1f);
@@ -118,7 +118,7 @@ TEST(FullOrderSim, ApicConservesLinearAndAngularMomentum) {
     // A spinning, drifting body with a shear on top, so the stress is far from zero.
     test::set_plane_vector(init.v, n, p, drift + cross(spin, r) + Vec3<float>(2.0f * r[1], 0.0f, 0.0f));
   }
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   const Momenta before = momenta(sim, init.mass);
   for (int step = 0; step < 200; ++step) sim.substep(sim.stable_dt());
   const Momenta after = momenta(sim, init.mass);
@@ -129,9 +129,9 @@ TEST(FullOrderSim, ApicConservesLinearAndAngularMomentum) {
 
 TEST(FullOrderSim, BodyAtRestStaysAtRest) {
   const float dx = 1.0f / 16.0f;
-  FullOrderConfig config = test::open_space_config(dx, 16, jelly(1e5f, 0.3f));
+  engine::FullOrderConfig config = test::open_space_config(dx, 16, jelly(1e5f, 0.3f));
   const mpm::ParticleInit init = test::lattice_box({0.375f, 0.375f, 0.375f}, {0.625f, 0.625f, 0.625f}, dx, 2, kJellyDensity);
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   for (int step = 0; step < 1000; ++step) sim.substep(sim.stable_dt());
   const std::vector<float> x = sim.particles().positions_in_initial_order(test::exec());
   float worst = 0.0f;
@@ -143,7 +143,7 @@ TEST(FullOrderSim, BodyAtRestStaysAtRest) {
 // itself, so any difference comes from the physics, i.e. from a stress that is not frame-indifferent.
 TEST(FullOrderSim, RotatingTheInitialStateRotatesTheResult) {
   const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
+  engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
   config.fixed_dt = 2e-4f;
   mpm::ParticleInit init = test::lattice_box({0.40f, 0.45f, 0.42f}, {0.59f, 0.55f, 0.52f}, dx, 2, kJellyDensity);
   const Index n = init.count();
@@ -163,7 +163,7 @@ TEST(FullOrderSim, RotatingTheInitialStateRotatesTheResult) {
     test::set_plane_vector(rotated.x, n, p, pivot + exact_Q * (test::plane_vector(init.x, n, p) - pivot));
     test::set_plane_vector(rotated.v, n, p, exact_Q * test::plane_vector(init.v, n, p));
   }
-  FullOrderSim original(test::exec(), config, init), turned(test::exec(), config, rotated);
+  engine::FullOrderSim original(test::exec(), config, init), turned(test::exec(), config, rotated);
   for (int step = 0; step < 300; ++step) {
     original.substep(config.fixed_dt);
     turned.substep(config.fixed_dt);
@@ -183,7 +183,7 @@ TEST(FullOrderSim, RotatingTheInitialStateRotatesTheResult) {
 // First axial mode of a free–free bar: u = cos(πX/L) cos(ωt), f = sqrt(E/ρ)/(2L) for ν = 0.
 double measured_bar_frequency(float dx) {
   const float length = 0.5f, young = 1e5f;
-  FullOrderConfig config = test::open_space_config(dx, int(std::lround(1.0f / dx)), jelly(young, 0.0f));
+  engine::FullOrderConfig config = test::open_space_config(dx, int(std::lround(1.0f / dx)), jelly(young, 0.0f));
   config.cfl = 0.3f;
   const float x0 = 0.25f;
   mpm::ParticleInit init = test::lattice_box({x0, 0.5f - 2 * dx, 0.5f - 2 * dx}, {x0 + length, 0.5f + 2 * dx, 0.5f + 2 * dx},
@@ -194,7 +194,7 @@ double measured_bar_frequency(float dx) {
     const float X = init.x[p] - x0;
     test::set_plane_vector(init.v, n, p, Vec3<float>(amplitude * std::cos(float(M_PI) * X / length), 0.0f, 0.0f));
   }
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   const double period = 2.0 * length / std::sqrt(young / kJellyDensity);
   // The mean x-velocity of the left half oscillates as cos(ωt); its zero crossings are half a period apart.
   std::vector<double> crossings;
@@ -225,23 +225,23 @@ TEST(FullOrderSim, BarVibratesAtItsFirstAxialModeAndConverges) {
 
 TEST(FullOrderSim, BouncingCubeGainsNoEnergy) {
   const float dx = 1.0f / 32.0f, young = 3e4f, poisson = 0.3f;
-  FullOrderConfig config = test::open_space_config(dx, 32, jelly(young, poisson));
+  engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(young, poisson));
   config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
   config.wall_contact = mpm::ContactType::Separate;  // frictionless walls the body can leave
   config.wall_friction = 0.0f;
   const mpm::ParticleInit init = test::lattice_box({0.4f, 0.3f, 0.4f}, {0.6f, 0.5f, 0.6f}, dx, 2, kJellyDensity);
-  FullOrderSim sim(test::exec(), config, init);
-  const double initial = mechanical_energy(sim, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
+  const double initial = analysis::mechanical_energy(sim, init);
   double highest = initial;
   while (sim.time() < 1.0) {
     sim.advance_to(std::min(1.0, sim.time() + 0.01));
-    highest = std::max(highest, mechanical_energy(sim, init));
+    highest = std::max(highest, analysis::mechanical_energy(sim, init));
   }
   EXPECT_LE(highest, initial + 0.01 * std::abs(initial));
 }
 
 // Height of the body: highest particle minus lowest.
-float body_height(FullOrderSim& sim) {
+float body_height(engine::FullOrderSim& sim) {
   const std::vector<float> x = sim.particles().positions_in_initial_order(sim.exec());
   const Index n = Index(x.size() / 3);
   const auto [low, high] = std::minmax_element(x.begin() + n, x.begin() + 2 * n);
@@ -252,15 +252,15 @@ float body_height(FullOrderSim& sim) {
 // (strength_off for 0.2 s) collapses under gravity, then stands up again when the strength returns.
 TEST(FullOrderSim, CubeWithoutStrengthCollapsesAndRecoversWhenItReturns) {
   const float dx = 1.0f / 32.0f;
-  MaterialSpec material = jelly(1e5f, 0.3f);
+  engine::MaterialSpec material = jelly(1e5f, 0.3f);
   material.strength_off_from = 0.0;
   material.strength_off_until = 0.2;
-  FullOrderConfig config = test::open_space_config(dx, 32, material);
+  engine::FullOrderConfig config = test::open_space_config(dx, 32, material);
   config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
   config.wall_contact = mpm::ContactType::Separate;
   const mpm::ParticleInit init =
       test::lattice_box({0.4f, 3.5f * dx, 0.4f}, {0.6f, 3.5f * dx + 0.2f, 0.6f}, dx, 2, kJellyDensity);
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   const float initial = body_height(sim);
   sim.advance_to(0.2);
   const float collapsed = body_height(sim);
@@ -280,20 +280,20 @@ TEST(FullOrderSim, CubeWithoutStrengthCollapsesAndRecoversWhenItReturns) {
 // paper's 1e6 to 1e5 (the angle of repose does not depend on stiffness) to allow larger steps.
 double sand_heap_angle_degrees(float friction_angle, float width, float height_0, float duration) {
   const float dx = 1.0f / 64.0f;
-  FullOrderConfig config;
+  engine::FullOrderConfig config;
   config.dx = dx;
   config.domain_cells = {64, 64, 10};
-  config.materials = {MaterialSpec{material::MaterialParams<float>::drucker_prager(
+  config.materials = {engine::MaterialSpec{material::MaterialParams<float>::drucker_prager(
                                        material::lame_from_young_poisson(1e5f, 0.2f), friction_angle, 0.0f),
                                    1000.0f}};
   const float floor = 0.1f;
   mpm::ColliderState ground;  // a static half-space, solid below y = floor
   ground.contact = mpm::ContactType::Sticky;
   ground.center = Vec3<float>(0.5f, floor, 0.0f);
-  config.colliders = {ColliderSpec{ground}};
+  config.colliders = {engine::ColliderSpec{ground}};
   const float z_low = 3 * dx, z_high = 7 * dx;
   const mpm::ParticleInit init = test::lattice_box({0.5f - 0.5f * width, floor, z_low}, {0.5f + 0.5f * width, floor + height_0, z_high}, dx, 2, 1000.0f);
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   sim.advance_to(duration);
 
   // Heap profile: the highest particle in each column of width dx, right flank only (the heap is symmetric).
@@ -331,7 +331,7 @@ TEST(FullOrderSim, SandHeapSettlesNearItsFrictionAngle) {
 TEST(FullOrderSim, TiledP2GFollowsThePortableKernel) {
   for (const mpm::Transfer transfer : {mpm::Transfer::Apic, mpm::Transfer::PicFlip}) {
     const float dx = 1.0f / 32.0f;
-    FullOrderConfig config = test::open_space_config(dx, 32, jelly(1e5f, 0.3f));
+    engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(1e5f, 0.3f));
     config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
     config.transfer = transfer;
     config.fixed_dt = 2e-4f;
@@ -343,9 +343,9 @@ TEST(FullOrderSim, TiledP2GFollowsThePortableKernel) {
                                                                                   x - Vec3<float>(0.4f, 0.25f, 0.4f)));
     }
     std::vector<std::vector<float>> positions;
-    for (const P2GKernel kernel : {P2GKernel::Portable, P2GKernel::Tiled}) {
+    for (const engine::P2GKernel kernel : {engine::P2GKernel::Portable, engine::P2GKernel::Tiled}) {
       config.p2g = kernel;
-      FullOrderSim sim(test::exec(), config, init);
+      engine::FullOrderSim sim(test::exec(), config, init);
       for (int s = 0; s < 60; ++s) sim.substep(config.fixed_dt);
       positions.push_back(sim.particles().positions_in_initial_order(sim.exec()));
     }
@@ -360,7 +360,7 @@ TEST(FullOrderSim, TiledP2GFollowsThePortableKernel) {
 
 TEST(FullOrderSim, PicFlipConservesLinearMomentum) {
   const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
+  engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
   config.transfer = mpm::Transfer::PicFlip;
   mpm::ParticleInit init = test::lattice_box({0.40f, 0.40f, 0.40f}, {0.60f, 0.55f, 0.50f}, dx, 2, kJellyDensity);
   const Index n = init.count();
@@ -368,7 +368,7 @@ TEST(FullOrderSim, PicFlipConservesLinearMomentum) {
     const Vec3<float> r = test::plane_vector(init.x, n, p) - Vec3<float>(0.5f, 0.475f, 0.45f);
     test::set_plane_vector(init.v, n, p, Vec3<float>(0.1f, 0.05f, -0.1f) + Vec3<float>(2.0f * r[1], 0.0f, -r[0]));
   }
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   const Momenta before = momenta(sim, init.mass);
   for (int step = 0; step < 100; ++step) sim.substep(sim.stable_dt());
   EXPECT_LE(norm(momenta(sim, init.mass).linear - before.linear), 1e-5 * norm(before.linear));
@@ -376,14 +376,14 @@ TEST(FullOrderSim, PicFlipConservesLinearMomentum) {
 
 TEST(FullOrderSim, DirichletGroupRotatesRigidlyAboutItsAxis) {
   const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
+  engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
   const Vec3<float> pivot(0.5f, 0.5f, 0.5f), omega(0.0f, 3.0f, 0.0f);
-  config.dirichlet = {DirichletSpec{pivot, Vec3<float>::zero(), omega}};
+  config.dirichlet = {engine::DirichletSpec{pivot, Vec3<float>::zero(), omega}};
   mpm::ParticleInit init = test::lattice_box({0.40f, 0.40f, 0.45f}, {0.60f, 0.60f, 0.55f}, dx, 2, kJellyDensity);
   const Index n = init.count();
   for (Index p = 0; p < n; ++p)
     if (init.x[p] > 0.55f) init.dirichlet_group[p] = 0;  // the end at x > 0.55 is driven
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   sim.advance_to(0.1);
   const std::vector<float> x = sim.particles().positions_in_initial_order(test::exec());
   const Mat3<float> R = rotation_from_vector(float(sim.time()) * omega);
@@ -398,7 +398,7 @@ TEST(FullOrderSim, DirichletGroupRotatesRigidlyAboutItsAxis) {
 
 TEST(FullOrderSim, RegionLoadPushesOnlyItsParticlesDuringItsWindow) {
   const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
+  engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
   config.fixed_dt = 1e-4f;
   mpm::RegionLoad poke;
   poke.shape = mpm::RegionShape::Sphere;
@@ -406,9 +406,9 @@ TEST(FullOrderSim, RegionLoadPushesOnlyItsParticlesDuringItsWindow) {
   poke.half_extents = Vec3<float>(0.05f, 0.0f, 0.0f);
   poke.acceleration = Vec3<float>(0.0f, 0.0f, 40.0f);
   // The window ends mid-step, so exactly the 50 substeps starting before 4.95 ms are loaded.
-  config.loads = {RegionLoadSpec{poke, 0.0, 0.00495}};
+  config.loads = {engine::RegionLoadSpec{poke, 0.0, 0.00495}};
   const mpm::ParticleInit init = test::lattice_box({0.40f, 0.40f, 0.40f}, {0.60f, 0.60f, 0.60f}, dx, 2, kJellyDensity);
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   double loaded_mass = 0.0;
   for (Index p = 0; p < init.count(); ++p)
     if (poke.contains(test::plane_vector(init.x, init.count(), p))) loaded_mass += init.mass[p];
@@ -420,16 +420,16 @@ TEST(FullOrderSim, RegionLoadPushesOnlyItsParticlesDuringItsWindow) {
 
 TEST(FullOrderSim, FallingBodyRestsOnAStaticCollider) {
   const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
+  engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
   config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
   mpm::ColliderState table;
   table.shape = mpm::ColliderShape::Box;
   table.contact = mpm::ContactType::Sticky;
   table.center = Vec3<float>(0.5f, 0.3f, 0.5f);
   table.half_extents = Vec3<float>(0.2f, 0.05f, 0.2f);
-  config.colliders = {ColliderSpec{table}};
+  config.colliders = {engine::ColliderSpec{table}};
   const mpm::ParticleInit init = test::lattice_box({0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}, dx, 2, kJellyDensity);
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   sim.advance_to(0.5);
   const std::vector<float> x = sim.particles().positions_in_initial_order(test::exec());
   const Index n = init.count();
@@ -444,14 +444,14 @@ TEST(FullOrderSim, FallingBodyRestsOnAStaticCollider) {
 // on CUDA an allocation synchronises the device. Its round trips are the few the host must make.
 TEST(FullOrderSim, SubstepsAllocateNothingOnceRunning) {
   const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = falling_jelly_config(dx);
+  engine::FullOrderConfig config = falling_jelly_config(dx);
   config.fixed_dt = 0.0f;  // the CFL step reads the particles' largest speed each substep
   mpm::ColliderState table;
   table.shape = mpm::ColliderShape::Box;
   table.center = Vec3<float>(0.5f, 0.3f, 0.5f);
   table.half_extents = Vec3<float>(0.2f, 0.05f, 0.2f);
-  config.colliders = {ColliderSpec{table}};
-  FullOrderSim sim(test::exec(), config,
+  config.colliders = {engine::ColliderSpec{table}};
+  engine::FullOrderSim sim(test::exec(), config,
                    test::lattice_box({0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}, dx, 2, kJellyDensity));
   for (int s = 0; s < 2; ++s) sim.substep(sim.stable_dt());
   const memory::Traffic before = memory::traffic();
@@ -470,21 +470,21 @@ TEST(FullOrderSim, SubstepsAllocateNothingOnceRunning) {
 TEST(FullOrderSim, DirichletGroupAndColliderLetGoAtTheirEnd) {
   const float dx = 1.0f / 32.0f;
   const double release = 0.05;
-  FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
+  engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
   config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
   config.fixed_dt = 1e-3f;
-  config.dirichlet = {DirichletSpec{Vec3<float>(0.5f, 0.5f, 0.5f), Vec3<float>::zero(), Vec3<float>::zero(), release}};
+  config.dirichlet = {engine::DirichletSpec{Vec3<float>(0.5f, 0.5f, 0.5f), Vec3<float>::zero(), Vec3<float>::zero(), release}};
   mpm::ColliderState table;
   table.shape = mpm::ColliderShape::Box;
   table.contact = mpm::ContactType::Sticky;
   table.center = Vec3<float>(0.5f, 0.4f, 0.5f);
   table.half_extents = Vec3<float>(0.2f, 0.05f, 0.2f);
-  config.colliders = {ColliderSpec{table, release}};
+  config.colliders = {engine::ColliderSpec{table, release}};
   mpm::ParticleInit init = test::lattice_box({0.45f, 0.5f, 0.45f}, {0.55f, 0.6f, 0.55f}, dx, 2, kJellyDensity);
   std::fill(init.dirichlet_group.begin(), init.dirichlet_group.end(), 0);
   const Index n = init.count();
   const float top = *std::max_element(init.x.begin() + n, init.x.begin() + 2 * n);
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   sim.advance_to(release);
   std::vector<float> x = sim.particles().positions_in_initial_order(test::exec());
   EXPECT_EQ(*std::max_element(x.begin() + n, x.begin() + 2 * n), top);
@@ -497,16 +497,16 @@ TEST(FullOrderSim, DirichletGroupAndColliderLetGoAtTheirEnd) {
 
 TEST(FullOrderSim, MovingColliderPushesTheBodyAhead) {
   const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
+  engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
   mpm::ColliderState paddle;
   paddle.shape = mpm::ColliderShape::Box;
   paddle.contact = mpm::ContactType::Separate;
   paddle.center = Vec3<float>(0.3f, 0.5f, 0.5f);
   paddle.half_extents = Vec3<float>(0.05f, 0.2f, 0.2f);
   paddle.linear_velocity = Vec3<float>(0.5f, 0.0f, 0.0f);
-  config.colliders = {ColliderSpec{paddle}};
+  config.colliders = {engine::ColliderSpec{paddle}};
   const mpm::ParticleInit init = test::lattice_box({0.40f, 0.45f, 0.45f}, {0.50f, 0.55f, 0.55f}, dx, 2, kJellyDensity);
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   sim.advance_to(0.3);  // the paddle's face travels from x = 0.35 to 0.50
   const std::vector<float> x = sim.particles().positions_in_initial_order(test::exec());
   const Index n = init.count();
@@ -519,14 +519,14 @@ TEST(FullOrderSim, MovingColliderPushesTheBodyAhead) {
 
 TEST(FullOrderSim, NonFiniteStateStopsWithStageAndParticle) {
   const float dx = 1.0f / 16.0f;
-  FullOrderConfig config = test::open_space_config(dx, 16, jelly(1e4f, 0.3f));
+  engine::FullOrderConfig config = test::open_space_config(dx, 16, jelly(1e4f, 0.3f));
   mpm::ParticleInit init = test::lattice_box({0.4f, 0.4f, 0.4f}, {0.6f, 0.6f, 0.6f}, dx, 2, kJellyDensity);
   init.v[5] = std::numeric_limits<float>::infinity();
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   try {
     sim.substep(1e-4f);
     FAIL() << "a non-finite velocity went unnoticed";
-  } catch (const NonFiniteError& error) {
+  } catch (const engine::NonFiniteError& error) {
     EXPECT_EQ(error.step(), 1);
     EXPECT_NE(std::string(error.what()).find("stage"), std::string::npos);
   }
@@ -538,7 +538,7 @@ TEST(FullOrderSim, NonFiniteStateStopsWithStageAndParticle) {
 // particles to rounding, and stage "tracers" is timed; a tracer beyond the material's reach stays put.
 TEST(FullOrderSim, TracersAtTheMaterialPointsMoveWithThemAndOthersStayAtRest) {
   const float dx = 1.0f / 32.0f;
-  const FullOrderConfig config = falling_jelly_config(dx);
+  const engine::FullOrderConfig config = falling_jelly_config(dx);
   mpm::ParticleInit init = test::lattice_box({0.40f, 0.45f, 0.40f}, {0.55f, 0.60f, 0.55f}, dx, 2, kJellyDensity);
   const Index n = init.count();
   for (Index p = 0; p < n; ++p) {
@@ -552,7 +552,7 @@ TEST(FullOrderSim, TracersAtTheMaterialPointsMoveWithThemAndOthersStayAtRest) {
     std::copy_n(init.x.begin() + a * n, n, tracers.begin() + a * (n + 1));
     tracers[a * (n + 1) + n] = far[a];
   }
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   sim.set_tracers(tracers);
   for (int s = 0; s < 40; ++s) sim.substep(1e-4f);
 

@@ -31,9 +31,9 @@ float explicit_step_limit() { return kDx / std::sqrt((kStiff.lambda + 2.0f * kSt
 
 // A stiff cube (E = 1e7 Pa, c = 116 m/s) of 4 cells a side, its base 1.8 cells above the floor's
 // wall nodes, on frictionless separating walls.
-FullOrderConfig drop_config(Integrator integrator, float dt) {
-  FullOrderConfig config = test::open_space_config(
-      kDx, kCells, MaterialSpec{material::MaterialParams<float>::fixed_corotated(kStiff), kDensity});
+engine::FullOrderConfig drop_config(engine::Integrator integrator, float dt) {
+  engine::FullOrderConfig config = test::open_space_config(
+      kDx, kCells, engine::MaterialSpec{material::MaterialParams<float>::fixed_corotated(kStiff), kDensity});
   config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
   config.wall_contact = mpm::ContactType::Separate;
   config.fixed_dt = dt;
@@ -45,19 +45,19 @@ mpm::ParticleInit stiff_cube() {
   return test::lattice_box({0.4375f, 0.15f, 0.4375f}, {0.5625f, 0.275f, 0.5625f}, kDx, 2, kDensity);
 }
 
-float lowest_particle(FullOrderSim& sim) {
+float lowest_particle(engine::FullOrderSim& sim) {
   const std::vector<float> x = sim.particles().positions_in_initial_order(sim.exec());
   const Index n = Index(x.size() / 3);
   return *std::min_element(x.begin() + n, x.begin() + 2 * n);
 }
 
 // Until t_end, every 0.01 s: the largest total energy seen (infinity once it is not finite).
-double highest_energy(FullOrderSim& sim, const mpm::ParticleInit& init, double t_end, float& lowest) {
-  double highest = mechanical_energy(sim, init);
+double highest_energy(engine::FullOrderSim& sim, const mpm::ParticleInit& init, double t_end, float& lowest) {
+  double highest = analysis::mechanical_energy(sim, init);
   lowest = lowest_particle(sim);
   while (sim.time() < t_end) {
     sim.advance_to(std::min(t_end, sim.time() + 0.01));
-    const double energy = mechanical_energy(sim, init);
+    const double energy = analysis::mechanical_energy(sim, init);
     highest = std::isfinite(energy) ? std::max(highest, energy) : std::numeric_limits<double>::infinity();
     lowest = std::min(lowest, lowest_particle(sim));
   }
@@ -69,9 +69,9 @@ double highest_energy(FullOrderSim& sim, const mpm::ParticleInit& init, double t
 // the explicit limit.
 struct StiffDrop {
   mpm::ParticleInit init;
-  FullOrderConfig config;
+  engine::FullOrderConfig config;
 };
-StiffDrop stiff_drop(Integrator integrator, bool domains) {
+StiffDrop stiff_drop(engine::Integrator integrator, bool domains) {
   StiffDrop drop{domains ? test::lattice_box_with_domains({0.4375f, 0.15f, 0.4375f}, {0.5625f, 0.275f, 0.5625f},
                                                           kDx, 2, kDensity)
                          : stiff_cube(),
@@ -84,9 +84,9 @@ class ImplicitStepOfBodies : public ::testing::TestWithParam<bool> {};  // with 
 INSTANTIATE_TEST_SUITE_P(Domains, ImplicitStepOfBodies, ::testing::Values(false, true));
 
 TEST_P(ImplicitStepOfBodies, StiffCubeBouncesStablyBeyondTheExplicitStepLimit) {
-  const auto [init, config] = stiff_drop(Integrator::Implicit, GetParam());
-  FullOrderSim sim(test::exec(), config, init);
-  const double initial = mechanical_energy(sim, init);
+  const auto [init, config] = stiff_drop(engine::Integrator::Implicit, GetParam());
+  engine::FullOrderSim sim(test::exec(), config, init);
+  const double initial = analysis::mechanical_energy(sim, init);
   float lowest = 0.0f;
   // The fall takes 0.11 s; the rest is contact with the floor (measured without domains: 34 CG
   // iterations per step on average, 45 at most; the same run stays stable and dissipative up to 400
@@ -97,7 +97,7 @@ TEST_P(ImplicitStepOfBodies, StiffCubeBouncesStablyBeyondTheExplicitStepLimit) {
   // It reached the floor (its wall nodes end at 3 dx) and did not sink through it.
   EXPECT_LT(lowest, 4.0f * kDx);
   EXPECT_GT(lowest, 2.0f * kDx);
-  const ImplicitSolveTotals& totals = *sim.implicit_totals();
+  const engine::ImplicitSolveTotals& totals = *sim.implicit_totals();
   EXPECT_EQ(totals.solves, sim.steps());
   EXPECT_EQ(totals.not_converged, 0);
   RecordProperty("mean_cg_iterations", std::to_string(double(totals.iterations) / double(totals.solves)));
@@ -105,14 +105,14 @@ TEST_P(ImplicitStepOfBodies, StiffCubeBouncesStablyBeyondTheExplicitStepLimit) {
 }
 
 TEST_P(ImplicitStepOfBodies, ExplicitStepBlowsUpAtTheSameStep) {
-  const auto [init, config] = stiff_drop(Integrator::Explicit, GetParam());
-  FullOrderSim sim(test::exec(), config, init);
-  const double initial = mechanical_energy(sim, init);
+  const auto [init, config] = stiff_drop(engine::Integrator::Explicit, GetParam());
+  engine::FullOrderSim sim(test::exec(), config, init);
+  const double initial = analysis::mechanical_energy(sim, init);
   float lowest = 0.0f;
   try {
     const double highest = highest_energy(sim, init, 0.2, lowest);
     EXPECT_GT(highest, 10.0 * std::abs(initial)) << "the explicit step stayed bounded";
-  } catch (const NonFiniteError&) {
+  } catch (const engine::NonFiniteError&) {
     SUCCEED();  // measured: at step 6, still in free fall (float round-off in F grows every step)
   }
 }
@@ -127,16 +127,16 @@ TEST(ImplicitStep, UnconvergedSolveKeepsTheExplicitVelocitiesAndIsCounted) {
     test::set_plane_vector(init.v, n, p, cross(Vec3<float>(1.0f, 2.0f, -3.0f), r) + Vec3<float>(4.0f * r[1], 0.0f, 0.0f));
   }
   const float dt = kStepRatio * explicit_step_limit();
-  FullOrderConfig implicit_config = drop_config(Integrator::Implicit, dt);
+  engine::FullOrderConfig implicit_config = drop_config(engine::Integrator::Implicit, dt);
   implicit_config.implicit.max_iterations = 1;
   // One thread: P2G's float atomics then add in the same order in both runs.
   const Exec exec = test::exec_with_threads(1);
-  FullOrderSim implicit(exec, implicit_config, init);
-  FullOrderSim explicit_sim(exec, drop_config(Integrator::Explicit, dt), init);
+  engine::FullOrderSim implicit(exec, implicit_config, init);
+  engine::FullOrderSim explicit_sim(exec, drop_config(engine::Integrator::Explicit, dt), init);
   implicit.substep(dt);
   explicit_sim.substep(dt);
 
-  const ImplicitSolveTotals& totals = *implicit.implicit_totals();
+  const engine::ImplicitSolveTotals& totals = *implicit.implicit_totals();
   EXPECT_EQ(totals.solves, 1);
   EXPECT_EQ(totals.not_converged, 1);
   EXPECT_EQ(totals.iterations, 1);
@@ -152,19 +152,19 @@ TEST(ImplicitStep, UnconvergedSolveKeepsTheExplicitVelocitiesAndIsCounted) {
 // limit and this test stopped with a NonFiniteError.
 TEST(ImplicitStep, CubeUnderASlipPlateStaysStable) {
   for (const float plate_speed : {0.0f, 0.38f}) {
-    FullOrderConfig config = drop_config(Integrator::Implicit, kStepRatio * explicit_step_limit());
+    engine::FullOrderConfig config = drop_config(engine::Integrator::Implicit, kStepRatio * explicit_step_limit());
     mpm::ColliderState plate;
     plate.shape = mpm::ColliderShape::Box;
     plate.contact = mpm::ContactType::Slip;
     plate.half_extents = Vec3<float>(0.2f, 0.05f, 0.2f);
     plate.center = Vec3<float>(0.5f, 0.275f + plate.half_extents[1], 0.5f);
     plate.linear_velocity = Vec3<float>(0.0f, -plate_speed, 0.0f);
-    config.colliders = {ColliderSpec{plate}};
+    config.colliders = {engine::ColliderSpec{plate}};
     // On the floor: the cube's base just above the wall nodes.
     const mpm::ParticleInit init =
         test::lattice_box({0.4375f, 3.5f * kDx, 0.4375f}, {0.5625f, 3.5f * kDx + 0.125f, 0.5625f}, kDx, 2, kDensity);
     config.colliders[0].initial.center[1] = 3.5f * kDx + 0.125f + plate.half_extents[1];
-    FullOrderSim sim(test::exec(), config, init);
+    engine::FullOrderSim sim(test::exec(), config, init);
     for (int step = 0; step < 20; ++step) sim.substep(config.fixed_dt);
     const std::vector<float> F = sim.particles().deformation_gradients_in_initial_order(test::exec());
     float largest = 0.0f;
@@ -179,7 +179,7 @@ TEST(ImplicitStep, CubeUnderASlipPlateStaysStable) {
 // normal above 0.1 (x and y here), the slope-parallel motion of those nodes was integrated
 // explicitly.
 TEST(ImplicitStep, CubeOnASlipSlopeSlidesStably) {
-  FullOrderConfig config = drop_config(Integrator::Implicit, kStepRatio * explicit_step_limit());
+  engine::FullOrderConfig config = drop_config(engine::Integrator::Implicit, kStepRatio * explicit_step_limit());
   const float angle = 3.14159265f / 6.0f;
   const Mat3<float> tilt = rotation_from_vector(Vec3<float>(0.0f, 0.0f, angle));
   mpm::ColliderState slope;
@@ -187,7 +187,7 @@ TEST(ImplicitStep, CubeOnASlipSlopeSlidesStably) {
   slope.contact = mpm::ContactType::Slip;
   slope.center = Vec3<float>(0.5f, 0.4f, 0.5f);
   slope.rotation = tilt;
-  config.colliders = {ColliderSpec{slope}};
+  config.colliders = {engine::ColliderSpec{slope}};
   // The cube of drop_config, turned with the slope and resting half a particle spacing above it.
   const float side = 0.125f, gap = 0.25f * kDx;
   mpm::ParticleInit init = test::lattice_box({0.4375f, 0.4f + gap, 0.4375f}, {0.5625f, 0.4f + gap + side, 0.5625f},
@@ -197,7 +197,7 @@ TEST(ImplicitStep, CubeOnASlipSlopeSlidesStably) {
     const Vec3<float> x = test::plane_vector(init.x, n, p) - slope.center;
     test::set_plane_vector(init.x, n, p, slope.center + tilt * x);
   }
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   for (int step = 0; step < 60; ++step) sim.substep(config.fixed_dt);
   const std::vector<float> F = sim.particles().deformation_gradients_in_initial_order(test::exec());
   float largest = 0.0f;

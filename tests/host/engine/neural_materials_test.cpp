@@ -91,7 +91,7 @@ TEST(NeuralMaterials, EachLawActsOnItsOwnMaterialsParticles) {
   const test::ScratchFolder folder;
   const Exec& exec = test::exec();
   nn::nclaw::NeuralLaws first = scaled_laws(1, 1e5), second = scaled_laws(2, 3e5);
-  const std::vector<MaterialSpec> materials = {
+  const std::vector<engine::MaterialSpec> materials = {
       {material::MaterialParams<float>::neural({1.0f, 1.0f}), 1000.0f, write_law(folder, "first.h5", first)},
       {material::MaterialParams<float>::fixed_corotated({1.0f, 1.0f}), 1000.0f, ""},
       {material::MaterialParams<float>::neural({1.0f, 1.0f}), 1000.0f, write_law(folder, "second.h5", second)}};
@@ -101,7 +101,7 @@ TEST(NeuralMaterials, EachLawActsOnItsOwnMaterialsParticles) {
   init.dirichlet_group[kHeld] = 0;
   for (Index p = 0; p < n; ++p) init.material.push_back(std::int32_t(p % 3));
   mpm::ParticleSet particles(exec.backend, init);
-  NeuralMaterials neural(exec, materials, n);
+  engine::NeuralMaterials neural(exec, materials, n);
   ASSERT_FALSE(neural.empty());
 
   const Mat3Planes<const float> stress = neural.evaluate_stress(exec, particles.view());
@@ -136,13 +136,13 @@ TEST(NeuralMaterials, StressFollowsTheKernelsQueuedBeforeItOnTheEnginesStream) {
   const test::StreamOfItsOwn stream(test::exec());
   const Exec& exec = stream.exec();
   nn::nclaw::NeuralLaws laws = scaled_laws(3, 1e5);
-  const std::vector<MaterialSpec> materials = {
+  const std::vector<engine::MaterialSpec> materials = {
       {material::MaterialParams<float>::neural({1.0f, 1.0f}), 1000.0f, write_law(folder, "law.h5", laws)}};
   constexpr Index n = 4096;
   mpm::ParticleInit init = resting_particles(n);
   init.material.assign(n, 0);
   mpm::ParticleSet particles(exec.backend, init);
-  NeuralMaterials neural(exec, materials, n);
+  engine::NeuralMaterials neural(exec, materials, n);
 
   constexpr float kFactor = 1.25f;
   test::scale_late(exec, Span<float>(particles.view().F.data(), 9 * n), kFactor, 200000);
@@ -222,7 +222,7 @@ TEST(NeuralMaterials, SceneMaterialCarriesTheLawAndItsRestStiffness) {
   write_law(folder, "law.h5", scaled_laws(4, 2e5));
   const scene::Scene scene = scene::parse_scene(dropped_cube_scene("neural = \"law.h5\"\ndensity = 500.0"),
                                                 folder.file("cube.toml"));
-  const MaterialSpec material = to_material_spec(scene.materials.at(0));
+  const engine::MaterialSpec material = scene::to_material_spec(scene.materials.at(0));
   EXPECT_EQ(material.params.model, material::MaterialModel::Neural);
   EXPECT_EQ(material.neural_law, folder.file("law.h5"));
   EXPECT_EQ(material.density, 500.0f);
@@ -291,10 +291,10 @@ TEST(NeuralMaterials, AFileThatIsNotALawIsASceneErrorWhenParsed) {
 
 TEST(NeuralMaterials, TheImplicitIntegratorRefusesThem) {
   const test::ScratchFolder folder;
-  FullOrderConfig config;
+  engine::FullOrderConfig config;
   config.dx = 0.05f;
   config.domain_cells = {20, 20, 20};
-  config.integrator = Integrator::Implicit;
+  config.integrator = engine::Integrator::Implicit;
   config.materials = {{material::MaterialParams<float>::neural({1e4f, 1e4f}), 1000.0f,
                        write_law(folder, "law.h5", scaled_laws(4, 1e5))}};
   mpm::ParticleInit init;
@@ -305,7 +305,7 @@ TEST(NeuralMaterials, TheImplicitIntegratorRefusesThem) {
   init.material = {0};
   init.dirichlet_group = {mpm::kNoDirichletGroup};
   try {
-    FullOrderSim sim(test::exec(), config, init);
+    engine::FullOrderSim sim(test::exec(), config, init);
     FAIL() << "accepted";
   } catch (const Error& error) {
     EXPECT_NE(std::string(error.what()).find("neural laws run with the explicit integrator"), std::string::npos)

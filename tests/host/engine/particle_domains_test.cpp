@@ -22,13 +22,13 @@ namespace {
 
 constexpr float kDensity = 1000.0f;
 
-MaterialSpec rubber(float young) {
-  return MaterialSpec{material::MaterialParams<float>::fixed_corotated(material::lame_from_young_poisson(young, 0.3f))
+engine::MaterialSpec rubber(float young) {
+  return engine::MaterialSpec{material::MaterialParams<float>::fixed_corotated(material::lame_from_young_poisson(young, 0.3f))
                           .with_min_stretch(0.1f),
                       kDensity};
 }
 
-Vec3<double> linear_momentum(FullOrderSim& sim, const std::vector<float>& mass) {
+Vec3<double> linear_momentum(engine::FullOrderSim& sim, const std::vector<float>& mass) {
   const std::vector<float> v = sim.particles().velocities_in_initial_order(sim.exec());
   const Index n = Index(mass.size());
   Vec3<double> total = Vec3<double>::zero();
@@ -58,13 +58,13 @@ INSTANTIATE_TEST_SUITE_P(Thresholds, DomainsAtEnrichment, ::testing::Values(0.0f
 
 TEST_P(DomainsAtEnrichment, TranslatingBodyMovesRigidlyWithUnchangedDeformation) {
   const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = test::open_space_config(dx, 32, rubber(2e4f));
+  engine::FullOrderConfig config = test::open_space_config(dx, 32, rubber(2e4f));
   config.enrichment_threshold = GetParam();
   mpm::ParticleInit init = test::lattice_box_with_domains({0.40f, 0.40f, 0.40f}, {0.55f, 0.50f, 0.50f}, dx, 2, kDensity);
   const Index n = init.count();
   const Vec3<float> velocity(0.3f, -0.2f, 0.1f);
   for (Index p = 0; p < n; ++p) test::set_plane_vector(init.v, n, p, velocity);
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   sim.advance_to(0.05);
   EXPECT_EQ(sim.enriched_share(), GetParam() > 1.0f ? 1.0 : 0.0);
   const std::vector<float> x = sim.particles().positions_in_initial_order(test::exec());
@@ -85,7 +85,7 @@ TEST_P(DomainsAtEnrichment, TranslatingBodyMovesRigidlyWithUnchangedDeformation)
 
 TEST_P(DomainsAtEnrichment, ConserveLinearMomentumOfASpinningBody) {
   const float dx = 1.0f / 32.0f;
-  FullOrderConfig config = test::open_space_config(dx, 32, rubber(2e4f));
+  engine::FullOrderConfig config = test::open_space_config(dx, 32, rubber(2e4f));
   config.enrichment_threshold = GetParam();
   mpm::ParticleInit init = test::lattice_box_with_domains({0.40f, 0.40f, 0.40f}, {0.60f, 0.55f, 0.50f}, dx, 2, kDensity);
   const Index n = init.count();
@@ -93,7 +93,7 @@ TEST_P(DomainsAtEnrichment, ConserveLinearMomentumOfASpinningBody) {
     const Vec3<float> r = test::plane_vector(init.x, n, p) - Vec3<float>(0.5f, 0.475f, 0.45f);
     test::set_plane_vector(init.v, n, p, Vec3<float>(0.1f, 0.05f, -0.1f) + Vec3<float>(2.0f * r[1], 0.0f, -r[0]));
   }
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   const Vec3<double> before = linear_momentum(sim, init.mass);
   for (int step = 0; step < 100; ++step) sim.substep(sim.stable_dt());
   EXPECT_LE(norm(linear_momentum(sim, init.mass) - before), 1e-5 * norm(before));
@@ -102,7 +102,7 @@ TEST_P(DomainsAtEnrichment, ConserveLinearMomentumOfASpinningBody) {
 // A 10 cm rubber cube with domains, squeezed hard by its initial velocity (its height shrinking at
 // 8 m/s per 5 cm), and its scene: it enriches the corners of its most distorted particles.
 constexpr float kSqueezeDx = 1.0f / 32.0f;
-FullOrderConfig squeeze_config() { return test::open_space_config(kSqueezeDx, 32, rubber(2e4f)); }
+engine::FullOrderConfig squeeze_config() { return test::open_space_config(kSqueezeDx, 32, rubber(2e4f)); }
 mpm::ParticleInit squeezed_cube() {
   mpm::ParticleInit init =
       test::lattice_box_with_domains({0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}, kSqueezeDx, 2, kDensity);
@@ -115,7 +115,7 @@ mpm::ParticleInit squeezed_cube() {
 }
 
 // Substeps at the stable Δt until time t; the largest share of enriched particles on the way.
-double run_until(FullOrderSim& sim, double t) {
+double run_until(engine::FullOrderSim& sim, double t) {
   double largest_share = 0.0;
   while (sim.time() < t) {
     sim.substep(sim.stable_dt());
@@ -127,9 +127,9 @@ double run_until(FullOrderSim& sim, double t) {
 // The squeezed cube enriches the corners of its most distorted particles, and gives them back to the
 // grid once it has sprung back.
 TEST(ParticleDomains, EnrichmentFollowsTheDeformation) {
-  const FullOrderConfig config = squeeze_config();
+  const engine::FullOrderConfig config = squeeze_config();
   const mpm::ParticleInit init = squeezed_cube();
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   EXPECT_GT(run_until(sim, 0.3), 0.2);
   EXPECT_EQ(sim.enriched_share(), 0.0);
 }
@@ -138,11 +138,11 @@ TEST(ParticleDomains, EnrichmentFollowsTheDeformation) {
 // on several: the same squeezed, enriching body ends in the same place either way, to rounding.
 TEST(ParticleDomains, OneThreadAndManyThreadsAgree) {
   if (test::exec().is_cuda()) GTEST_SKIP() << "thread counts choose the CPU's scatter only";
-  const FullOrderConfig config = squeeze_config();
+  const engine::FullOrderConfig config = squeeze_config();
   const mpm::ParticleInit init = squeezed_cube();
   std::vector<std::vector<float>> positions;
   for (const int threads : {1, 3}) {
-    FullOrderSim sim(test::exec_with_threads(threads), config, init);
+    engine::FullOrderSim sim(test::exec_with_threads(threads), config, init);
     EXPECT_GT(run_until(sim, 0.02), 0.0) << threads << " threads";  // mid-squeeze
     positions.push_back(sim.particles().positions_in_initial_order(sim.exec()));
   }
@@ -159,7 +159,7 @@ TEST(ParticleDomains, OneThreadAndManyThreadsAgree) {
 // squeezed body whose corners enrich - and so leave the grid - they follow the particles to rounding,
 // and a tracer outside every domain is carried by the grid.
 TEST(ParticleDomains, TracersRideInTheDomainsThroughEnrichment) {
-  const FullOrderConfig config = squeeze_config();
+  const engine::FullOrderConfig config = squeeze_config();
   const mpm::ParticleInit init = squeezed_cube();
   const Index n = init.count();
   std::vector<float> tracers(3 * (n + 1));
@@ -167,7 +167,7 @@ TEST(ParticleDomains, TracersRideInTheDomainsThroughEnrichment) {
     std::copy_n(init.x.begin() + a * n, n, tracers.begin() + a * (n + 1));
     tracers[a * (n + 1) + n] = 0.2f;  // far from the body: the grid's, at rest there
   }
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   sim.set_tracers(tracers);
   EXPECT_GT(run_until(sim, 0.02), 0.1);
   const std::vector<float> x = sim.particles().positions_in_initial_order(sim.exec());
@@ -189,7 +189,7 @@ TEST(ParticleDomains, TracersRefuseDomainsOfDifferentSizes) {
   std::vector<float>& corner_x = init.domains.corner_x;
   corner_x[0] -= 0.5f * kSqueezeDx;  // corner 0's x: its domains are now wider along x than the rest
   try {
-    TracerSet(test::exec(), init.x, init.domains);
+    engine::TracerSet(test::exec(), init.x, init.domains);
     FAIL() << "tracers embedded in domains of different sizes";
   } catch (const Error& error) {
     EXPECT_NE(std::string(error.what()).find("different sizes"), std::string::npos) << error.what();
@@ -229,7 +229,7 @@ double rest_state_error(const std::vector<float>& x, const std::vector<float>& x
 TEST(ParticleDomains, ReturnCloserToTheRestShapeThanPlainParticles) {
   const float dx = 1.0f / 32.0f;
   auto rest_error = [&](bool domains) {
-    FullOrderConfig config = test::open_space_config(dx, 32, rubber(2e4f));
+    engine::FullOrderConfig config = test::open_space_config(dx, 32, rubber(2e4f));
     config.transfer = mpm::Transfer::PicFlip;
     config.flip_alpha = 0.0f;
     const Vec3<float> low(0.45f, 0.45f, 0.45f), high(0.55f, 0.55f, 0.55f);
@@ -241,7 +241,7 @@ TEST(ParticleDomains, ReturnCloserToTheRestShapeThanPlainParticles) {
       const float twist = 20.0f * r[1] / 0.05f;  // rad/s, opposite at the two ends
       test::set_plane_vector(init.v, n, p, Vec3<float>(-twist * r[2], -20.0f * r[1] / 0.05f, twist * r[0]));
     }
-    FullOrderSim sim(test::exec(), config, init);
+    engine::FullOrderSim sim(test::exec(), config, init);
     sim.advance_to(1.0);
     return rest_state_error(sim.particles().positions_in_initial_order(test::exec()), init.x, n,
                             double(norm(high - low)));
@@ -268,10 +268,10 @@ struct StretchedBar {
 };
 StretchedBar stretch_bar(bool domains, const std::optional<mpm::Region>& released = std::nullopt) {
   const float dx = 0.005f, spacing = dx / 2.0f;
-  FullOrderConfig config = test::open_space_config(dx, 64, rubber(12500.0f));
-  config.dirichlet = {DirichletSpec{Vec3<float>(0.16f, 0.1f, 0.16f), Vec3<float>(0.0f, -0.6f, 0.0f), Vec3<float>::zero()},
-                      DirichletSpec{Vec3<float>(0.16f, 0.2f, 0.16f), Vec3<float>(0.0f, 0.6f, 0.0f), Vec3<float>::zero()}};
-  if (released) config.domain_releases = {DomainReleaseSpec{*released}};
+  engine::FullOrderConfig config = test::open_space_config(dx, 64, rubber(12500.0f));
+  config.dirichlet = {engine::DirichletSpec{Vec3<float>(0.16f, 0.1f, 0.16f), Vec3<float>(0.0f, -0.6f, 0.0f), Vec3<float>::zero()},
+                      engine::DirichletSpec{Vec3<float>(0.16f, 0.2f, 0.16f), Vec3<float>(0.0f, 0.6f, 0.0f), Vec3<float>::zero()}};
+  if (released) config.domain_releases = {engine::DomainReleaseSpec{*released}};
   const Vec3<float> low(0.155f, 0.13f, 0.155f), high(0.165f, 0.17f, 0.165f);
   mpm::ParticleInit init = domains ? test::lattice_box_with_domains(low, high, dx, 2, kDensity)
                                    : test::lattice_box(low, high, dx, 2, kDensity);
@@ -282,7 +282,7 @@ StretchedBar stretch_bar(bool domains, const std::optional<mpm::Region>& release
     if (y > high[1] - spacing) init.dirichlet_group[p] = 1;
   }
   if (domains) geometry::assign_corner_dirichlet_groups(init);
-  FullOrderSim sim(test::exec(), config, init);
+  engine::FullOrderSim sim(test::exec(), config, init);
   sim.advance_to(0.2);
   const std::vector<float> x = sim.particles().positions_in_initial_order(test::exec());
   return {largest_gap_along_y(x, n), std::vector<float>(init.x.begin() + n, init.x.begin() + 2 * n),

@@ -27,8 +27,8 @@ constexpr float kDt = 1e-3f;
 constexpr int kSteps = 40;
 const Vec3<float> kInitialVelocity(0.5f, 0.0f, -0.25f);
 
-FullOrderConfig falling_config() {
-  FullOrderConfig config = test::open_space_config(kDx, 32, nclaw_material(NclawMaterial::Jelly));
+engine::FullOrderConfig falling_config() {
+  engine::FullOrderConfig config = test::open_space_config(kDx, 32, scene::nclaw_material(scene::NclawMaterial::Jelly));
   config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
   return config;
 }
@@ -43,15 +43,15 @@ mpm::ParticleInit cube() {
 // The reference trajectory, run once per test binary.
 const std::vector<float>& full_order_positions() {
   static const std::vector<float> positions = [] {
-    FullOrderSim sim(test::exec(), falling_config(), cube());
+    engine::FullOrderSim sim(test::exec(), falling_config(), cube());
     for (int s = 0; s < kSteps; ++s) sim.substep(kDt);
     return sim.particles().positions_in_initial_order(sim.exec());
   }();
   return positions;
 }
 
-std::vector<float> reduced_positions(const ReducedOptions& options) {
-  ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, options);
+std::vector<float> reduced_positions(const engine::ReducedOptions& options) {
+  engine::ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, options);
   for (int s = 0; s < kSteps; ++s) sim.substep(kDt);
   EXPECT_EQ(sim.unconverged_projections(), 0);
   return sim.decode_positions();
@@ -76,8 +76,8 @@ TEST(ReducedSim, VelocityProjectionReproducesTheFullOrderTranslation) {
 }
 
 TEST(ReducedSim, PositionVelocityProjectionReproducesTheFullOrderTranslation) {
-  ReducedOptions options;
-  options.projection = RomProjection::PositionVelocity;
+  engine::ReducedOptions options;
+  options.projection = engine::RomProjection::PositionVelocity;
   EXPECT_LT(largest_difference(full_order_positions(), reduced_positions(options)), kTrajectoryTolerance);
 }
 
@@ -89,14 +89,14 @@ TEST(ReducedSim, ParticleDomainsOfTheReferenceAreIgnored) {
       geometry::SamplingSpec{geometry::SamplingMethod::Lattice, 2, kDx}, 1000.0f);
   for (Index p = 0; p < with_domains.count(); ++p)
     test::set_plane_vector(with_domains.v, with_domains.count(), p, kInitialVelocity);
-  ReducedSim sim(test::exec(), falling_config(), with_domains, test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+  engine::ReducedSim sim(test::exec(), falling_config(), with_domains, test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
   for (int s = 0; s < kSteps; ++s) sim.substep(kDt);
   // Equal up to the order in which threads' float atomics sum (seen under a loaded ctest: 3e-8 m).
   EXPECT_LE(largest_difference(sim.decode_positions(), reduced_positions({})), 1e-6f);
 }
 
 TEST(ReducedSim, TenSamplesFollowTheSameTrajectoryAsEveryPoint) {
-  ReducedOptions hyper;
+  engine::ReducedOptions hyper;
   hyper.samples = 10;
   hyper.seed = 3;
   EXPECT_LT(largest_difference(reduced_positions({}), reduced_positions(hyper)), kTrajectoryTolerance);
@@ -109,22 +109,22 @@ struct NeighbourRun {
   std::int64_t newton_steps = 0;
 };
 // 3 samples (seeded) in a 32,768-point body under a map that deforms it.
-ReducedSim deformed_body(RomQuadrature quadrature, NeighbourSearch search,
-                         RomProjection projection = RomProjection::Velocity) {
+engine::ReducedSim deformed_body(engine::RomQuadrature quadrature, engine::NeighbourSearch search,
+                         engine::RomProjection projection = engine::RomProjection::Velocity) {
   const mpm::ParticleInit body = test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2,
                                                    1000.0f);
-  ReducedOptions options;
+  engine::ReducedOptions options;
   options.quadrature = quadrature;
   options.samples = 3;
   options.seed = 5;
   options.neighbour_search = search;
   options.projection = projection;
-  return ReducedSim(test::exec(), falling_config(), body, test::small_nonlinear_map(0.25f, 0.5f, 0.003f),
+  return engine::ReducedSim(test::exec(), falling_config(), body, test::small_nonlinear_map(0.25f, 0.5f, 0.003f),
                     {0.0f, 0.0f, 0.0f}, options);
 }
-NeighbourRun run_deformed_body(RomQuadrature quadrature, NeighbourSearch search) {
-  ReducedSim sim = deformed_body(quadrature, search);
-  EXPECT_EQ(sim.searches_neighbours(), quadrature == RomQuadrature::Lagrangian && search == NeighbourSearch::Always);
+NeighbourRun run_deformed_body(engine::RomQuadrature quadrature, engine::NeighbourSearch search) {
+  engine::ReducedSim sim = deformed_body(quadrature, search);
+  EXPECT_EQ(sim.searches_neighbours(), quadrature == engine::RomQuadrature::Lagrangian && search == engine::NeighbourSearch::Always);
   for (int s = 0; s < 10; ++s) sim.substep(kDt);
   return {sim.xhat(), sim.last_quadrature_count(), sim.inversion_iterations()};
 }
@@ -142,8 +142,8 @@ void expect_same_xhat(const std::vector<float>& neighbours, const std::vector<fl
 
 // Alg. 3's neighbour search gives the samples the P2G of every material point, from a fraction of them.
 TEST(ReducedSim, NeighbourQuadratureFollowsEveryPointQuadrature) {
-  const NeighbourRun every = run_deformed_body(RomQuadrature::Lagrangian, NeighbourSearch::Never);
-  const NeighbourRun neighbours = run_deformed_body(RomQuadrature::Lagrangian, NeighbourSearch::Always);
+  const NeighbourRun every = run_deformed_body(engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Never);
+  const NeighbourRun neighbours = run_deformed_body(engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Always);
   EXPECT_EQ(every.quadrature_points, 32768);
   EXPECT_GT(neighbours.quadrature_points, 0);
   EXPECT_LT(neighbours.quadrature_points, 32768 / 4);  // 3 samples reach a few hundred of the points
@@ -153,8 +153,8 @@ TEST(ReducedSim, NeighbourQuadratureFollowsEveryPointQuadrature) {
 // Of the Eulerian points of the cells near the samples, those whose stencils miss every sample's nodes
 // change nothing the samples read: inverting only the others (about 60 % at ℓ = 2) keeps x̂.
 TEST(ReducedSim, EulerianQuadratureInvertsOnlyTheSamplesNeighbours) {
-  const NeighbourRun every = run_deformed_body(RomQuadrature::Eulerian, NeighbourSearch::Never);
-  const NeighbourRun neighbours = run_deformed_body(RomQuadrature::Eulerian, NeighbourSearch::Auto);
+  const NeighbourRun every = run_deformed_body(engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Never);
+  const NeighbourRun neighbours = run_deformed_body(engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Auto);
   // ℓ = 2: per axis 10 of the 12 points of a sample's 6 cells reach its nodes, (10/12)³ = 58 %.
   EXPECT_LE(every.quadrature_points, 3 * 6 * 6 * 6 * 8);
   EXPECT_LT(neighbours.quadrature_points, every.quadrature_points * 2 / 3);
@@ -172,9 +172,9 @@ struct SubstepTraffic {
   int allocating_substeps = 0;
   std::int64_t largest_uploads = 0, largest_downloads = 0;
 };
-SubstepTraffic substep_traffic(RomQuadrature quadrature, NeighbourSearch search,
-                               RomProjection projection = RomProjection::Velocity) {
-  ReducedSim sim = deformed_body(quadrature, search, projection);
+SubstepTraffic substep_traffic(engine::RomQuadrature quadrature, engine::NeighbourSearch search,
+                               engine::RomProjection projection = engine::RomProjection::Velocity) {
+  engine::ReducedSim sim = deformed_body(quadrature, search, projection);
   for (int s = 0; s < 3; ++s) sim.substep(kDt);
   SubstepTraffic traffic;
   for (int s = 0; s < 12; ++s) {
@@ -192,7 +192,7 @@ TEST(ReducedSim, SubstepsReuseTheirBuffersAndMakeFewRoundTrips) {
   // Each compaction (IndexSelector) reads its count back, on the CPU as on CUDA.
   constexpr std::int64_t per_compaction = 1;
 
-  const SubstepTraffic every = substep_traffic(RomQuadrature::Lagrangian, NeighbourSearch::Never);
+  const SubstepTraffic every = substep_traffic(engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Never);
   EXPECT_EQ(every.allocating_substeps, 0);
   // Up: the sample indices (x̂ and v̂ stay on the device). Down: the grid's block count, the failure
   // slots, the new x̂ and v̂ (the projection is solved on the device), the largest speed, the results of
@@ -202,13 +202,13 @@ TEST(ReducedSim, SubstepsReuseTheirBuffersAndMakeFewRoundTrips) {
 
   // The neighbours' and the Eulerian points' counts vary with the samples: their buffers grow with
   // headroom now and then (not in these 12 substeps), where they were allocated every substep.
-  const SubstepTraffic neighbours = substep_traffic(RomQuadrature::Lagrangian, NeighbourSearch::Always);
+  const SubstepTraffic neighbours = substep_traffic(engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Always);
   EXPECT_LE(neighbours.allocating_substeps, 2);
   // The nodes near the samples are found, and the neighbours compacted, on the device: one count more.
   EXPECT_EQ(neighbours.largest_uploads, 1);
   EXPECT_EQ(neighbours.largest_downloads, 6 + per_compaction);
 
-  const SubstepTraffic eulerian = substep_traffic(RomQuadrature::Eulerian, NeighbourSearch::Auto);
+  const SubstepTraffic eulerian = substep_traffic(engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Auto);
   EXPECT_LE(eulerian.allocating_substeps, 2);
   // As every point's, less the quadrature's domain check; and three counts (the cells around the
   // samples, the points kept in them, the points used): built, compacted and tallied on the device.
@@ -217,8 +217,8 @@ TEST(ReducedSim, SubstepsReuseTheirBuffersAndMakeFewRoundTrips) {
 
   // Gauss–Newton runs where the samples are (rom::project_positions): the position–velocity projection
   // costs the host what the velocity projection does, whatever its iterations.
-  const SubstepTraffic position = substep_traffic(RomQuadrature::Eulerian, NeighbourSearch::Auto,
-                                                  RomProjection::PositionVelocity);
+  const SubstepTraffic position = substep_traffic(engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Auto,
+                                                  engine::RomProjection::PositionVelocity);
   EXPECT_LE(position.allocating_substeps, 2);
   EXPECT_EQ(position.largest_uploads, 1);
   EXPECT_EQ(position.largest_downloads, 5 + 3 * per_compaction);
@@ -230,9 +230,9 @@ TEST(ReducedSim, AutoSearchesNeighboursOnlyWhereTheyAreFewerThanThePoints) {
   mpm::ParticleInit large = test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2,
                                               1000.0f);
   auto searches = [&](const mpm::ParticleInit& body, Index samples) {
-    ReducedOptions options;
+    engine::ReducedOptions options;
     options.samples = samples;
-    return ReducedSim(test::exec(), falling_config(), body, test::translation_map(), {0.0f, 0.0f, 0.0f}, options)
+    return engine::ReducedSim(test::exec(), falling_config(), body, test::translation_map(), {0.0f, 0.0f, 0.0f}, options)
         .searches_neighbours();
   };
   EXPECT_TRUE(searches(large, 3));     // 3 × 125 cells × 8 points = 3,000 < 32,768 / 2
@@ -242,11 +242,11 @@ TEST(ReducedSim, AutoSearchesNeighboursOnlyWhereTheyAreFewerThanThePoints) {
 }
 
 TEST(ReducedSim, EulerianQuadratureReproducesTheFullOrderTranslation) {
-  ReducedOptions eulerian;
-  eulerian.quadrature = RomQuadrature::Eulerian;
+  engine::ReducedOptions eulerian;
+  eulerian.quadrature = engine::RomQuadrature::Eulerian;
   EXPECT_LT(largest_difference(full_order_positions(), reduced_positions(eulerian)), kTrajectoryTolerance);
   eulerian.samples = 10;
-  eulerian.projection = RomProjection::PositionVelocity;
+  eulerian.projection = engine::RomProjection::PositionVelocity;
   EXPECT_LT(largest_difference(full_order_positions(), reduced_positions(eulerian)), kTrajectoryTolerance);
 }
 
@@ -254,9 +254,9 @@ TEST(ReducedSim, EulerianQuadratureWeighsTheBodyAndDropsPointsOutsideIt) {
   // At x̂ = 0 the map is the identity, and ℓ = 2 points per cell of a lattice body sampled at 2 per
   // cell sit exactly on its material points: the quadrature mass is the body's mass.
   const mpm::ParticleInit body = cube();
-  ReducedOptions eulerian;
-  eulerian.quadrature = RomQuadrature::Eulerian;
-  ReducedSim sim(test::exec(), falling_config(), body, test::translation_map(), {0.0f, 0.0f, 0.0f}, eulerian);
+  engine::ReducedOptions eulerian;
+  eulerian.quadrature = engine::RomQuadrature::Eulerian;
+  engine::ReducedSim sim(test::exec(), falling_config(), body, test::translation_map(), {0.0f, 0.0f, 0.0f}, eulerian);
   sim.substep(kDt);
   double mass = 0.0;
   for (const float m : body.mass) mass += m;
@@ -275,12 +275,12 @@ TEST(ReducedSim, EulerianSamplesReadNodesNoQuadraturePointReaches) {
   const mpm::ParticleInit body = test::lattice_box(Vec3<float>::constant(8.0f * kDx),
                                                    Vec3<float>::constant(10.75f * kDx), kDx, 8, 1000.0f);
   const float shift = -0.01f * kDx;  // x̂: off the lattice, so no quadrature point is on the body's faces
-  ReducedOptions eulerian;
-  eulerian.quadrature = RomQuadrature::Eulerian;
-  FullOrderConfig config = falling_config();
+  engine::ReducedOptions eulerian;
+  eulerian.quadrature = engine::RomQuadrature::Eulerian;
+  engine::FullOrderConfig config = falling_config();
   // No stress at all: at F = I the elastic stress is 0 only to rounding, which moved v̂ by 5e-7 m/s.
   config.materials[0].strength_off_until = 1.0;
-  ReducedSim sim(test::exec(), config, body, test::translation_map(), {shift, shift, shift}, eulerian);
+  engine::ReducedSim sim(test::exec(), config, body, test::translation_map(), {shift, shift, shift}, eulerian);
   sim.substep(kDt);
   const Index n = body.count();
   double weight_on_mass = 0.0;
@@ -307,11 +307,11 @@ TEST(ReducedSim, EulerianSamplesReadNodesNoQuadraturePointReaches) {
 
 TEST(ReducedSim, DecodesAFinerSamplingOfTheBody) {
   // Super-resolution: the state at points the simulation never had, here a lattice twice as fine.
-  ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+  engine::ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
   for (int s = 0; s < 5; ++s) sim.substep(kDt);
   const mpm::ParticleInit fine = test::lattice_box(Vec3<float>::constant(0.375f), Vec3<float>::constant(0.625f), kDx,
                                                    4, 1000.0f);
-  const ReducedSim::DecodedState state = sim.decode(fine.x);
+  const engine::ReducedSim::DecodedState state = sim.decode(fine.x);
   const Index n = fine.count();
   ASSERT_EQ(Index(state.x.size()), 3 * n);
   for (Index p = 0; p < n; p += 97)
@@ -323,16 +323,16 @@ TEST(ReducedSim, DecodesAFinerSamplingOfTheBody) {
 }
 
 TEST(ReducedSim, InitialGeneralizedVelocityFitsTheInitialVelocities) {
-  const ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+  const engine::ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
   for (int j = 0; j < 3; ++j) EXPECT_NEAR(sim.vhat()[j], kInitialVelocity[j], 1e-6f);
 }
 
 TEST(ReducedSim, NonFiniteGeneralizedCoordinatesStopWithAClearError) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   try {
-    ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, nan, 0.0f}, {});
+    engine::ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, nan, 0.0f}, {});
     FAIL() << "a non-finite x̂ must be an error";
-  } catch (const NonFiniteError& error) {
+  } catch (const engine::NonFiniteError& error) {
     EXPECT_NE(std::string(error.what()).find("x̂"), std::string::npos) << error.what();
   }
 }
@@ -342,13 +342,13 @@ TEST(ReducedSim, NonFiniteGeneralizedCoordinatesStopWithAClearError) {
 TEST(ReducedSim, StateDecodedOutsideTheDomainStopsNamingThePoint) {
   for (const Index samples : {Index(0), Index(10)}) {
     // x̂ = (0.6, 0, 0) moves the cube's far face (x = 0.625) to 1.225 m, past the 1 m domain.
-    ReducedOptions options;
+    engine::ReducedOptions options;
     options.samples = samples;
-    ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.6f, 0.0f, 0.0f}, options);
+    engine::ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.6f, 0.0f, 0.0f}, options);
     try {
       sim.substep(kDt);
       FAIL() << "a state outside the domain must be an error";
-    } catch (const NonFiniteError& error) {
+    } catch (const engine::NonFiniteError& error) {
       const std::string message = error.what();
       EXPECT_EQ(error.step(), 0);
       EXPECT_GE(error.index(), 0);
@@ -361,19 +361,19 @@ TEST(ReducedSim, StateDecodedOutsideTheDomainStopsNamingThePoint) {
 // A stress that is not finite stops P2G naming a material point for the Lagrangian quadrature, and for
 // the Eulerian one, whose points are none, the point's place.
 TEST(ReducedSim, NonFiniteStressNamesTheQuadraturePoint) {
-  FullOrderConfig config = falling_config();
+  engine::FullOrderConfig config = falling_config();
   config.materials[0].params.mu = std::numeric_limits<float>::quiet_NaN();
-  for (const RomQuadrature quadrature : {RomQuadrature::Lagrangian, RomQuadrature::Eulerian}) {
-    ReducedOptions options;
+  for (const engine::RomQuadrature quadrature : {engine::RomQuadrature::Lagrangian, engine::RomQuadrature::Eulerian}) {
+    engine::ReducedOptions options;
     options.quadrature = quadrature;
-    ReducedSim sim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, options);
+    engine::ReducedSim sim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, options);
     try {
       sim.substep(kDt);
       FAIL() << "a non-finite stress must stop the run";
-    } catch (const NonFiniteError& error) {
+    } catch (const engine::NonFiniteError& error) {
       const std::string message = error.what();
       EXPECT_EQ(error.stage(), mpm::Stage::P2G);
-      if (quadrature == RomQuadrature::Lagrangian) {
+      if (quadrature == engine::RomQuadrature::Lagrangian) {
         EXPECT_EQ(error.index(), 0);
         EXPECT_NE(message.find("material point 0 (a quadrature point)"), std::string::npos) << message;
       } else {
@@ -388,9 +388,9 @@ TEST(ReducedSim, NonFiniteStressNamesTheQuadraturePoint) {
 // (0, 1].
 TEST(ReducedSim, CflOptionScalesTheStableStep) {
   auto stable_dt = [](double cfl) {
-    ReducedOptions options;
+    engine::ReducedOptions options;
     options.cfl = cfl;
-    return ReducedSim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, options)
+    return engine::ReducedSim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, options)
         .stable_dt();
   };
   EXPECT_EQ(stable_dt(0.0), stable_dt(falling_config().cfl));  // 0: the scene's
@@ -404,11 +404,11 @@ TEST(ReducedSim, CflOptionScalesTheStableStep) {
 // A PIC scene (pic-flip with flip_alpha = 0, the paper's full-order model) runs the same reduced step
 // as an APIC one, which the full-order PIC run of the translating cube matches too; FLIP is refused.
 TEST(ReducedSim, PicScenesRunTheSameStepAndFlipIsRefused) {
-  FullOrderConfig pic = falling_config();
+  engine::FullOrderConfig pic = falling_config();
   pic.transfer = mpm::Transfer::PicFlip;
   pic.flip_alpha = 0.0f;
-  ReducedSim sim(test::exec(), pic, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
-  FullOrderSim full(test::exec(), pic, cube());
+  engine::ReducedSim sim(test::exec(), pic, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+  engine::FullOrderSim full(test::exec(), pic, cube());
   for (int s = 0; s < kSteps; ++s) {
     sim.substep(kDt);
     full.substep(kDt);
@@ -418,7 +418,7 @@ TEST(ReducedSim, PicScenesRunTheSameStepAndFlipIsRefused) {
             kTrajectoryTolerance);
   pic.flip_alpha = 0.5f;
   try {
-    ReducedSim(test::exec(), pic, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+    engine::ReducedSim(test::exec(), pic, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
     FAIL() << "a reduced simulation accepted FLIP";
   } catch (const Error& error) {
     EXPECT_NE(std::string(error.what()).find("solver.flip_alpha = 0.5"), std::string::npos) << error.what();
@@ -426,16 +426,16 @@ TEST(ReducedSim, PicScenesRunTheSameStepAndFlipIsRefused) {
 }
 
 TEST(ReducedSim, PlasticMaterialsAreRejected) {
-  FullOrderConfig config = falling_config();
-  config.materials = {nclaw_material(NclawMaterial::Sand)};
-  EXPECT_THROW(ReducedSim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {}), Error);
+  engine::FullOrderConfig config = falling_config();
+  config.materials = {scene::nclaw_material(scene::NclawMaterial::Sand)};
+  EXPECT_THROW(engine::ReducedSim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {}), Error);
 }
 
 TEST(ReducedSim, TheImplicitIntegratorIsRefusedByName) {
-  FullOrderConfig config = falling_config();
-  config.integrator = Integrator::Implicit;
+  engine::FullOrderConfig config = falling_config();
+  config.integrator = engine::Integrator::Implicit;
   try {
-    ReducedSim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+    engine::ReducedSim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
     FAIL() << "a reduced simulation accepted the implicit integrator";
   } catch (const Error& error) {
     EXPECT_NE(std::string(error.what()).find("solver.integrator"), std::string::npos) << error.what();

@@ -47,7 +47,7 @@ TEST(RomModelLoader, EncodesTheInitialStateAndPacksTheMap) {
   const std::string path = folder.file("model.h5");
   const nn::rom::RomModel model = write_model(path);
   const mpm::ParticleInit init = points(kPoints);
-  const LoadedReducedModel loaded = load_reduced_model(path, init);
+  const engine::LoadedReducedModel loaded = engine::load_reduced_model(path, init);
 
   const torch::Tensor x = torch::from_blob(const_cast<float*>(init.x.data()), {3, kPoints}).t().unsqueeze(0);
   const torch::Tensor expected = model.encode(x.contiguous()).squeeze(0).detach();
@@ -61,7 +61,7 @@ TEST(RomModelLoader, AnotherSamplingIsRefusedNamingTheFileAndBothCounts) {
   const test::ScratchFolder folder;
   const std::string path = folder.file("model.h5");
   write_model(path);
-  const std::string message = test::error_message([&] { load_reduced_model(path, points(kPoints + 1)); });
+  const std::string message = test::error_message([&] { engine::load_reduced_model(path, points(kPoints + 1)); });
   EXPECT_NE(message.find(path), std::string::npos) << message;
   EXPECT_NE(message.find("40 material points"), std::string::npos) << message;
   EXPECT_NE(message.find("samples 41"), std::string::npos) << message;

@@ -122,7 +122,7 @@ TEST_F(SceneRunner, ReducedRunWritesTheDecodedStateOfEveryMaterialPoint) {
   RunOptions o = options("reduced.h5");
   o.make_reduced = [](const Exec& exec, const scene::SceneSetup& setup) {
     return reduced_simulation(exec, setup.config, setup.particles, test::translation_map(), {0.0f, 0.0f, 0.0f},
-                              ReducedOptions{});
+                              engine::ReducedOptions{});
   };
   const RunResult r = run_scene(Exec::cpu(), scene, o);
   EXPECT_EQ(r.frames_written, 8);
@@ -158,7 +158,7 @@ TEST_F(SceneRunner, OutputPointsOfAReducedRunAreDecodedThere) {
   o.output_points = folder_.file("points.h5");
   o.make_reduced = [](const Exec& exec, const scene::SceneSetup& setup) {
     return reduced_simulation(exec, setup.config, setup.particles, test::translation_map(), {0.0f, 0.0f, 0.0f},
-                              ReducedOptions{});
+                              engine::ReducedOptions{});
   };
   run_scene(Exec::cpu(), scene, o);
   const io::SnapshotReader reader(o.output);
@@ -326,7 +326,7 @@ TEST_F(SceneRunner, BlowUpStopsWithTheStageAndKeepsTheFramesWritten) {
   try {
     run_scene(Exec::cpu(), scene, o);
     FAIL() << "the run should have gone non-finite";
-  } catch (const NonFiniteError& error) {
+  } catch (const engine::NonFiniteError& error) {
     const std::string message = error.what();
     EXPECT_NE(message.find("non-finite value at step"), std::string::npos) << message;
     EXPECT_NE(message.find(io::partial_path(o.output)), std::string::npos) << message;
