@@ -51,7 +51,7 @@ const Measurement& Context::time(const std::string& suite, const std::string& na
                                  const std::string& note) {
   for (int i = 0; i < options_.warmup; ++i) work();
   synchronize(exec);
-  Measurement m{suite, name, to_string(exec.backend), exec.is_cuda() ? 0 : exec.threads, items, unit, {},
+  Measurement m{suite,          name, to_string(exec.backend), exec.is_cuda() ? 0 : exec.threads, items, unit, {},
                 bytes_per_item, note};
   DeviceTimer timer(exec);
   for (int i = 0; i < options_.repeats; ++i) {

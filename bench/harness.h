@@ -12,11 +12,11 @@
 namespace romp::bench {
 
 struct Options {
-  int warmup = 2;                   // untimed runs before the timed ones
-  int repeats = 10;                 // timed runs; the median is reported
-  double scale = 1.0;               // multiplies each suite's problem sizes (smaller for smoke runs)
+  int warmup = 2;      // untimed runs before the timed ones
+  int repeats = 10;    // timed runs; the median is reported
+  double scale = 1.0;  // multiplies each suite's problem sizes (smaller for smoke runs)
   std::vector<int> cpu_threads{1, 2};
-  bool use_cuda = false;            // measure on the CUDA device as well as the CPU
+  bool use_cuda = false;  // measure on the CUDA device as well as the CPU
   int cuda_device = 0;
   // The rom suite's case: a scene, its parameter overrides, and a model trained on the scene's sweep.
   std::string scene;
@@ -27,15 +27,15 @@ struct Options {
 
 // One timed case: `items` units of work per repeat (SVDs, particle-substeps, bytes, ...).
 struct Measurement {
-  std::string suite;               // "svd", "memory", ...
-  std::string name;                // what was run, e.g. "romp_svd3<float>", "eigen_jacobi_svd<float>"
-  std::string backend;             // "cpu" or "cuda"
-  int threads = 0;                 // CPU threads; 0 on CUDA
+  std::string suite;    // "svd", "memory", ...
+  std::string name;     // what was run, e.g. "romp_svd3<float>", "eigen_jacobi_svd<float>"
+  std::string backend;  // "cpu" or "cuda"
+  int threads = 0;      // CPU threads; 0 on CUDA
   Index items = 0;
-  std::string unit;                // what one item is, e.g. "svd"
-  std::vector<double> seconds;     // one entry per timed repeat
-  double bytes_per_item = 0.0;     // when > 0, the report adds effective GB/s
-  std::string note;                // free text: reference bound, baseline it compares against, ...
+  std::string unit;             // what one item is, e.g. "svd"
+  std::vector<double> seconds;  // one entry per timed repeat
+  double bytes_per_item = 0.0;  // when > 0, the report adds effective GB/s
+  std::string note;             // free text: reference bound, baseline it compares against, ...
 
   double median_seconds() const;
   double min_seconds() const;

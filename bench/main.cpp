@@ -1,6 +1,6 @@
 // romp-bench: runs the requested suites on the CPU (and the GPU when present) and writes CSV + JSON.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -12,8 +12,8 @@
 #include "bench/harness.h"
 #include "bench/report.h"
 #include "bench/suites/suites.h"
-#include "host/scene/expression.h"
 #include "host/backend_selection.h"
+#include "host/scene/expression.h"
 
 namespace {
 
@@ -23,15 +23,21 @@ using romp::bench::Suite;
 const std::vector<Suite> kSuites = {
     {"memory", "copy bandwidth of each backend (the bound for memory-bound kernels)", romp::bench::run_memory_suite},
     {"step", "full-order MPM particle-substeps per second and memory per particle", romp::bench::run_step_suite},
-    {"svd", "batched 3x3 SVD against Eigen (CPU) and cuSOLVER (GPU); share of copy bandwidth", romp::bench::run_svd_suite},
-    {"train", "seconds per neural-law training epoch (1000 substeps forward and backward)", romp::bench::run_train_suite},
-    {"law", "one neural constitutive law on 1k and 117k particles, forward and backward: fused kernels against LibTorch", romp::bench::run_law_suite},
-    {"mlp", "deformation map g, grad g, dg/dxhat at 1k-200k points: fused kernel against LibTorch", romp::bench::run_mlp_suite},
+    {"svd", "batched 3x3 SVD against Eigen (CPU) and cuSOLVER (GPU); share of copy bandwidth",
+     romp::bench::run_svd_suite},
+    {"train", "seconds per neural-law training epoch (1000 substeps forward and backward)",
+     romp::bench::run_train_suite},
+    {"law",
+     "one neural constitutive law on 1k and 117k particles, forward and backward: fused kernels against LibTorch",
+     romp::bench::run_law_suite},
+    {"mlp", "deformation map g, grad g, dg/dxhat at 1k-200k points: fused kernel against LibTorch",
+     romp::bench::run_mlp_suite},
     {"quadrature", "reduced substep, Lagrangian quadrature over every point against over the samples' neighbours",
      romp::bench::run_quadrature_suite},
     {"rom", "ROM error against wall time per simulated second, every quadrature x projection (--scene, --rom-model)",
      romp::bench::run_rom_suite},
-    {"rom-cost", "one substep, full order against every reduced setup, at a scene's resolution with a random map (--scene)",
+    {"rom-cost",
+     "one substep, full order against every reduced setup, at a scene's resolution with a random map (--scene)",
      romp::bench::run_rom_cost_suite},
     {"stability", "robust-elasticity matrix: each case ends finite with bounded energy or stops with a message",
      romp::bench::run_stability_suite},
@@ -73,17 +79,23 @@ int main(int argc, char** argv) {
   app.add_option("--name", stem, "File stem of the records (default: bench-<UTC time>)");
   std::vector<std::string> sets;
   app.add_option("--scene", options.scene, "rom and rom-cost suites: the scene file")->check(CLI::ExistingFile);
-  app.add_option("--set", sets, "rom and rom-cost suites: override a declared scene parameter; stability suite: min_youngs, max_youngs, implicit, enriched, substeps, seconds; name=value (repeatable)");
+  app.add_option("--set", sets,
+                 "rom and rom-cost suites: override a declared scene parameter; stability suite: min_youngs, "
+                 "max_youngs, implicit, enriched, substeps, seconds; name=value (repeatable)");
   app.add_option("--rom-model", options.rom_model, "rom suite: a model trained on the scene's sweep (romp train-rom)")
       ->check(CLI::ExistingFile);
-  app.add_option("--rom-samples", options.rom_samples, "rom and rom-cost suites: sample counts per substep of the reduced cases (0: every point)")
+  app.add_option("--rom-samples", options.rom_samples,
+                 "rom and rom-cost suites: sample counts per substep of the reduced cases (0: every point)")
       ->delimiter(',')
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app.add_flag_callback("--list", [] {
+  app.add_flag_callback(
+      "--list",
+      [] {
     for (const Suite& suite : kSuites) fmt::print("{:<10} {}\n", suite.name, suite.summary);
     throw CLI::Success();
-  }, "List the suites and exit");
+      },
+      "List the suites and exit");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -103,7 +115,8 @@ int main(int argc, char** argv) {
     const auto started = std::chrono::steady_clock::now();
     for (std::size_t k = 0; k < chosen.size(); ++k) {
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-      fmt::print(stderr, "romp-bench: suite {}/{}: {} ({:.0f} s so far)\n", k + 1, chosen.size(), chosen[k]->name, elapsed);
+      fmt::print(stderr, "romp-bench: suite {}/{}: {} ({:.0f} s so far)\n", k + 1, chosen.size(), chosen[k]->name,
+                 elapsed);
       chosen[k]->run(context);
     }
     if (stem.empty()) stem = "bench-" + timestamp();

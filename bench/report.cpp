@@ -66,9 +66,17 @@ void write_report(const Context& context, const std::string& directory, const st
     csv += fmt::format("{},{},{},{},{},{},{:.6e},{:.6e},{:.6e},{:.6e},{:.4f},\"{}\"\n", m.suite, m.name, m.backend,
                        m.threads, m.items, m.unit, m.median_seconds(), m.min_seconds(), m.max_seconds(),
                        m.items_per_second(), gbps, m.note);
-    rows.push_back({{"suite", m.suite}, {"name", m.name}, {"backend", m.backend}, {"threads", m.threads},
-                    {"items", m.items}, {"unit", m.unit}, {"seconds", m.seconds}, {"median_s", m.median_seconds()},
-                    {"items_per_s", m.items_per_second()}, {"gb_per_s", gbps}, {"note", m.note}});
+    rows.push_back({{"suite", m.suite},
+                    {"name", m.name},
+                    {"backend", m.backend},
+                    {"threads", m.threads},
+                    {"items", m.items},
+                    {"unit", m.unit},
+                    {"seconds", m.seconds},
+                    {"median_s", m.median_seconds()},
+                    {"items_per_s", m.items_per_second()},
+                    {"gb_per_s", gbps},
+                    {"note", m.note}});
   }
   nlohmann::json records = nlohmann::json::object();
   for (const auto& [key, value] : context.records()) records[key] = value;

@@ -50,7 +50,8 @@ std::string describe_selection(const Exec& exec, const CudaProbe& probe) {
     }
   }
   const int threads = exec.threads > 0 ? exec.threads : omp_get_max_threads();
-  std::string line = "backend: cpu (" + std::to_string(threads) + " OpenMP threads; waits: " + openmp_wait_policy() + ")";
+  std::string line =
+      "backend: cpu (" + std::to_string(threads) + " OpenMP threads; waits: " + openmp_wait_policy() + ")";
   if (probe.devices.empty()) line += "; CUDA: " + probe.status;
   return line;
 }

@@ -5,13 +5,13 @@ namespace romp {
 
 struct BuildInfo {
   const char* version;
-  const char* commit;             // short hash, "-dirty" when built from uncommitted changes
+  const char* commit;  // short hash, "-dirty" when built from uncommitted changes
   const char* build_type;
   const char* cxx_compiler;
-  bool cuda;                      // the CUDA backend is compiled in
+  bool cuda;  // the CUDA backend is compiled in
   const char* cuda_architectures;
   const char* cuda_compiler_version;
-  const char* torch_version;      // as found by CMake
+  const char* torch_version;  // as found by CMake
   bool torch_cuda;
   const char* hdf5_version;
 };

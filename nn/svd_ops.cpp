@@ -1,4 +1,5 @@
-// torch::Tensor entry points of the batched SVD: shape, dtype and device checks, then the engine's launchers on the tensors' memory.
+// torch::Tensor entry points of the batched SVD: shape, dtype and device checks, then the engine's launchers on the
+// tensors' memory.
 #include "nn/svd_ops.h"
 
 #include <string>
@@ -84,7 +85,8 @@ void polar3_out(const torch::Tensor& F, const torch::Tensor& R, const torch::Ten
     using T = decltype(scalar);
     const Exec exec = exec_for(F);
     const int64_t n = matrix_count(F, "F");
-    polar3_batched(exec, matrices<const T>(F, exec, n, "F"), matrices<T>(R, exec, n, "R"), matrices<T>(S, exec, n, "S"));
+    polar3_batched(exec, matrices<const T>(F, exec, n, "F"), matrices<T>(R, exec, n, "R"),
+                   matrices<T>(S, exec, n, "S"));
   });
 }
 

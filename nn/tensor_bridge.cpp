@@ -13,11 +13,16 @@ namespace {
 template <class T>
 constexpr torch::ScalarType scalar_type() {
   using U = std::remove_const_t<T>;
-  if constexpr (std::is_same_v<U, float>) return torch::kFloat32;
-  else if constexpr (std::is_same_v<U, double>) return torch::kFloat64;
-  else if constexpr (std::is_same_v<U, std::int32_t>) return torch::kInt32;
-  else if constexpr (std::is_same_v<U, std::int64_t>) return torch::kInt64;
-  else static_assert(sizeof(U) == 0, "no torch dtype for this element type");
+  if constexpr (std::is_same_v<U, float>)
+    return torch::kFloat32;
+  else if constexpr (std::is_same_v<U, double>)
+    return torch::kFloat64;
+  else if constexpr (std::is_same_v<U, std::int32_t>)
+    return torch::kInt32;
+  else if constexpr (std::is_same_v<U, std::int64_t>)
+    return torch::kInt64;
+  else
+    static_assert(sizeof(U) == 0, "no torch dtype for this element type");
 }
 
 }  // namespace
@@ -64,19 +69,19 @@ torch::Tensor as_tensor(Span<T> span, const Exec& exec, c10::IntArrayRef shape) 
 template <class T>
 Span<T> as_span(const torch::Tensor& tensor, const Exec& exec, const std::string& what) {
   ROMP_CHECK(tensor.defined(), what + ": tensor is undefined");
-  ROMP_CHECK(tensor.scalar_type() == scalar_type<T>(),
-             what + ": dtype " + std::string(c10::toString(tensor.scalar_type())) + ", expected " +
-                 c10::toString(scalar_type<T>()));
+  ROMP_CHECK(tensor.scalar_type() == scalar_type<T>(), what + ": dtype " +
+                                                           std::string(c10::toString(tensor.scalar_type())) +
+                                                           ", expected " + c10::toString(scalar_type<T>()));
   ROMP_CHECK(tensor.is_contiguous(), what + ": tensor must be contiguous (call .contiguous() first)");
   ROMP_CHECK(tensor.device() == torch_device(exec),
              what + ": tensor on " + tensor.device().str() + " but the kernel runs on " + torch_device(exec).str());
   return Span<T>(static_cast<T*>(tensor.data_ptr()), Index(tensor.numel()));
 }
 
-#define ROMP_BRIDGE_INSTANTIATE(T)                                                       \
-  template torch::Tensor as_tensor<T>(Span<T>, const Exec&, c10::IntArrayRef);           \
+#define ROMP_BRIDGE_INSTANTIATE(T)                                                         \
+  template torch::Tensor as_tensor<T>(Span<T>, const Exec&, c10::IntArrayRef);             \
   template torch::Tensor as_tensor<const T>(Span<const T>, const Exec&, c10::IntArrayRef); \
-  template Span<T> as_span<T>(const torch::Tensor&, const Exec&, const std::string&);    \
+  template Span<T> as_span<T>(const torch::Tensor&, const Exec&, const std::string&);      \
   template Span<const T> as_span<const T>(const torch::Tensor&, const Exec&, const std::string&);
 
 ROMP_BRIDGE_INSTANTIATE(float)

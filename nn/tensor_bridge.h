@@ -53,9 +53,10 @@ void dispatch_real(const torch::Tensor& tensor, const std::string& what, const W
   } else if (tensor.defined() && tensor.scalar_type() == torch::kFloat64) {
     work(double{});
   } else {
-    throw Error(what + ": " +
-                (tensor.defined() ? "dtype " + std::string(c10::toString(tensor.scalar_type())) : std::string("undefined")) +
-                ", expected float32 or float64");
+    throw Error(
+        what + ": " +
+        (tensor.defined() ? "dtype " + std::string(c10::toString(tensor.scalar_type())) : std::string("undefined")) +
+        ", expected float32 or float64");
   }
 }
 

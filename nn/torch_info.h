@@ -6,9 +6,9 @@
 namespace romp::nn {
 
 struct TorchInfo {
-  std::string version;       // e.g. "1.13.1"
-  bool compiled_with_cuda;   // this LibTorch has CUDA kernels
-  bool cuda_available;       // ... and a device answers now
+  std::string version;      // e.g. "1.13.1"
+  bool compiled_with_cuda;  // this LibTorch has CUDA kernels
+  bool cuda_available;      // ... and a device answers now
   int cuda_device_count;
 };
 

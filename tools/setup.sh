@@ -8,7 +8,7 @@ packages=(
   build-essential cmake ninja-build git pkg-config python3 python3-venv python3-yaml
   libeigen3-dev libgtest-dev libhdf5-dev libcli11-dev libtomlplusplus-dev
   libfmt-dev libspdlog-dev nlohmann-json3-dev libtorch-dev openmpi-bin
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev clang-format-14
 )
 
 missing=()

@@ -40,9 +40,7 @@ void run_law_suite(Context& context) {
         torch::NoGradGuard no_gradients;
         law_function(F, w, 1.0, false);
       };
-      const auto both = [&](auto law_function) {
-        (law_function(F, w, 1.0, false) * upstream).sum().backward();
-      };
+      const auto both = [&](auto law_function) { (law_function(F, w, 1.0, false) * upstream).sum().backward(); };
       const auto fused = [](const torch::Tensor& f, const nn::nclaw::LawParameters& p, double s, bool a) {
         return nn::nclaw::fused_law(f, p, s, a);
       };
@@ -50,17 +48,18 @@ void run_law_suite(Context& context) {
         return nn::nclaw::composed_law(f, p, s, a);
       };
       // context.time returns a reference into a vector that the next measurement may move: keep copies.
-      const Measurement fused_forward = context.time("law", "fused_forward_" + size, exec, n, "particle",
-                                                     [&] { forward(fused); }, 0.0, "elastic law, fused kernel");
-      const Measurement composed_forward =
-          context.time("law", "composed_forward_" + size, exec, n, "particle", [&] { forward(composed); }, 0.0,
-                       "the same law op by op (LibTorch)");
-      const Measurement fused_both =
-          context.time("law", "fused_forward_backward_" + size, exec, n, "particle", [&] { both(fused); }, 0.0,
-                       "forward and backward (gradients of F and the weights), fused kernels");
-      const Measurement composed_both =
-          context.time("law", "composed_forward_backward_" + size, exec, n, "particle", [&] { both(composed); }, 0.0,
-                       "the same op by op (LibTorch autograd)");
+      const Measurement fused_forward = context.time(
+          "law", "fused_forward_" + size, exec, n, "particle", [&] { forward(fused); }, 0.0,
+          "elastic law, fused kernel");
+      const Measurement composed_forward = context.time(
+          "law", "composed_forward_" + size, exec, n, "particle", [&] { forward(composed); }, 0.0,
+          "the same law op by op (LibTorch)");
+      const Measurement fused_both = context.time(
+          "law", "fused_forward_backward_" + size, exec, n, "particle", [&] { both(fused); }, 0.0,
+          "forward and backward (gradients of F and the weights), fused kernels");
+      const Measurement composed_both = context.time(
+          "law", "composed_forward_backward_" + size, exec, n, "particle", [&] { both(composed); }, 0.0,
+          "the same op by op (LibTorch autograd)");
       torch::set_num_threads(torch_threads);
       const std::string key = fmt::format("law.{}.{}{}", size, fused_forward.backend, fused_forward.threads);
       context.record(key + ".forward_speedup", composed_forward.median_seconds() / fused_forward.median_seconds());

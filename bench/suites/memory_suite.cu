@@ -16,9 +16,7 @@ struct CopyKernel {
   ROMP_HD void operator()(Index i) const { destination[i] = source[i]; }
 };
 
-std::string place(const Exec& exec) {
-  return exec.is_cuda() ? "cuda" : "cpu_threads=" + std::to_string(exec.threads);
-}
+std::string place(const Exec& exec) { return exec.is_cuda() ? "cuda" : "cpu_threads=" + std::to_string(exec.threads); }
 
 }  // namespace
 
@@ -31,15 +29,14 @@ void run_memory_suite(Context& context) {
     DeviceBuffer<float> destination(exec.backend, n);
     source.fill_zero(exec.stream);
     const CopyKernel kernel{source.span(), destination.span()};
-    const Measurement& by_kernel = context.time("memory", "for_each_copy<float>", exec, n, "float",
-                                                [&] { for_each(exec, n, kernel); }, kBytesPerFloat);
+    const Measurement& by_kernel = context.time(
+        "memory", "for_each_copy<float>", exec, n, "float", [&] { for_each(exec, n, kernel); }, kBytesPerFloat);
     double best = by_kernel.gigabytes_per_second();
     if (exec.is_cuda()) {
       const Measurement& by_runtime = context.time(
           "memory", "cudaMemcpy_d2d<float>", exec, n, "float",
           [&] {
-            memory::copy(destination.data(), exec.backend, source.data(), exec.backend, destination.bytes(),
-                         exec.stream);
+        memory::copy(destination.data(), exec.backend, source.data(), exec.backend, destination.bytes(), exec.stream);
           },
           kBytesPerFloat);
       best = std::max(best, by_runtime.gigabytes_per_second());

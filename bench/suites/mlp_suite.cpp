@@ -64,10 +64,9 @@ void run_mlp_suite(Context& context) {
           rom::map_view(weights, Span<const float>(parameters.data(), parameters.size()));
       const std::string size = fmt::format("{}k", nominal / 1000);
       const auto evaluate = [&](rom::MapKernel kernel) {
-        rom::evaluate_deformation_map<float>(exec, view, Span<const float>(xhat.data(), r),
-                                             Vec3Planes<const float>(X.data(), n),
-                                             {Vec3Planes<float>(x.data(), n), Mat3Planes<float>(F.data(), n), dg.span()},
-                                             kernel);
+        rom::evaluate_deformation_map<float>(
+            exec, view, Span<const float>(xhat.data(), r), Vec3Planes<const float>(X.data(), n),
+            {Vec3Planes<float>(x.data(), n), Mat3Planes<float>(F.data(), n), dg.span()}, kernel);
       };
       // Both fused kernels (rom::MapKernel): the fixed-shape one for the paper's sizes and the generic one;
       // the engine runs the faster for the backend (MapKernel::Fastest). context.time returns a reference
@@ -80,7 +79,8 @@ void run_mlp_suite(Context& context) {
           "the same with the generic kernel (any sizes; the reference)");
       const double fused_seconds = std::min(fixed.median_seconds(), generic.median_seconds());
 
-      const torch::Device device = exec.is_cuda() ? torch::Device(torch::kCUDA, exec.device) : torch::Device(torch::kCPU);
+      const torch::Device device =
+          exec.is_cuda() ? torch::Device(torch::kCUDA, exec.device) : torch::Device(torch::kCPU);
       const int torch_threads = torch::get_num_threads();
       if (!exec.is_cuda()) torch::set_num_threads(exec.threads);
       map->to(device);
@@ -91,9 +91,7 @@ void run_mlp_suite(Context& context) {
       torch::NoGradGuard no_gradients;
       const Measurement libtorch = context.time(
           "mlp", "libtorch_" + size, exec, n, "point",
-          [&] {
-            nn::rom::manifold_jacobians(*map, xhat_rows, X_rows, nn::rom::DerivativeMethod::Analytic, false);
-          },
+          [&] { nn::rom::manifold_jacobians(*map, xhat_rows, X_rows, nn::rom::DerivativeMethod::Analytic, false); },
           0.0, "the training path's analytic layer Jacobians, no graph");
       torch::set_num_threads(torch_threads);
       context.record(fmt::format("mlp.{}.{}{}.fused_speedup", size, fixed.backend, fixed.threads),

@@ -35,7 +35,7 @@ void run_quadrature_suite(Context& context) {
     config.materials = {scene::nclaw_material(scene::NclawMaterial::Jelly)};
     const geometry::SamplingSpec lattice{geometry::SamplingMethod::Lattice, kParticlesPerCellPerAxis, config.dx};
     const mpm::ParticleInit body = geometry::sample_box(Vec3<float>::constant(low), Vec3<float>::constant(high),
-                                                       lattice, config.materials[0].density);
+                                                        lattice, config.materials[0].density);
     const Index n = body.count();
     for (const Exec& exec : context.execs()) {
       double every_point = 0.0;
@@ -48,15 +48,15 @@ void run_quadrature_suite(Context& context) {
         const std::string mode = search == engine::NeighbourSearch::Never ? "every_point" : "neighbours";
         const Measurement& m = context.time(
             "quadrature", fmt::format("lagrangian_{}k_{}", nominal / 1024, mode), exec, 1, "substep",
-            [&] { sim.substep(dt); }, 0.0,
-            fmt::format("{} points, {} samples, dx = {:.4g} m", n, kSamples, config.dx));
+            [&] { sim.substep(dt); }, 0.0, fmt::format("{} points, {} samples, dx = {:.4g} m", n, kSamples, config.dx));
         const std::string where = fmt::format("quadrature.{}.{}{}", m.name, m.backend, m.threads);
         context.record(where + ".quadrature_points_per_substep",
                        double(sim.lagrangian_quadrature_points()) / double(sim.steps()));
         // Where a substep goes (kinematics holds the neighbour search), over warm-up and timed repeats.
         double total = 0.0;
         for (const auto& [stage, seconds] : sim.stage_seconds()) total += seconds;
-        for (const auto& [stage, seconds] : sim.stage_seconds()) context.record(where + ".share." + stage, seconds / total);
+        for (const auto& [stage, seconds] : sim.stage_seconds())
+          context.record(where + ".share." + stage, seconds / total);
         if (search == engine::NeighbourSearch::Never)
           every_point = m.median_seconds();
         else

@@ -84,8 +84,9 @@ void run_rom_cost_suite(Context& context) {
         const float dt = sim.stable_dt();
         const std::string name =
             fmt::format("{}_{}", c.name, samples == 0 ? std::string("all") : std::to_string(samples));
-        const Measurement& m = context.time("rom-cost", name, exec, 1, "substep", [&] { sim.substep(dt); }, 0.0,
-                                            fmt::format("{} points, dt = {:.3g} s", n, dt));
+        const Measurement& m = context.time(
+            "rom-cost", name, exec, 1, "substep", [&] { sim.substep(dt); }, 0.0,
+            fmt::format("{} points, dt = {:.3g} s", n, dt));
         const std::string key = fmt::format("rom-cost.{}.{}", name, place);
         const double per_second = m.median_seconds() / dt;
         context.record(key + ".wall_per_simulated_second", per_second);
@@ -105,9 +106,10 @@ void run_rom_cost_suite(Context& context) {
           context.record(key + ".map_evaluations_per_eulerian_point", per_point[0]);
           context.record(key + ".jacobian_evaluations_per_eulerian_point", per_point[1]);
           context.record(key + ".inversion_iterations_per_eulerian_point", per_point[2]);
-          evaluations = fmt::format("; per Eulerian point and substep: {:.2f} evaluations of g ({:.2f} with the "
-                                    "Jacobians), {:.2f} iterations",
-                                    per_point[0], per_point[1], per_point[2]);
+          evaluations = fmt::format(
+              "; per Eulerian point and substep: {:.2f} evaluations of g ({:.2f} with the "
+              "Jacobians), {:.2f} iterations",
+              per_point[0], per_point[1], per_point[2]);
         }
         if (c.projection == engine::RomProjection::PositionVelocity) {
           // Each linearisation evaluates g and ∂g/∂x̂ at the samples, inside one block on CUDA.
@@ -115,15 +117,17 @@ void run_rom_cost_suite(Context& context) {
           const double unconverged = double(sim.unconverged_projections()) / double(sim.steps());
           context.record(key + ".gauss_newton_linearisations_per_substep", per_substep);
           context.record(key + ".gauss_newton_unconverged_share", unconverged);
-          evaluations += fmt::format("; {:.2f} Gauss–Newton linearisations per substep, {:.0f} % of the projections "
-                                     "unconverged",
-                                     per_substep, 100.0 * unconverged);
+          evaluations += fmt::format(
+              "; {:.2f} Gauss–Newton linearisations per substep, {:.0f} % of the projections "
+              "unconverged",
+              per_substep, 100.0 * unconverged);
         }
         std::string split;
         for (const auto& [stage, seconds] : sim.stage_seconds())
           split += fmt::format(" {} {:.3g}", stage, 1e3 * seconds / double(sim.steps()));
-        fmt::print("         {}: {:.0f} quadrature points{}; ms per substep by stage:{}; host traffic per substep: {}\n",
-                   name, quadrature_points, evaluations, split, traffic_of_one(key, [&] { sim.substep(dt); }));
+        fmt::print(
+            "         {}: {:.0f} quadrature points{}; ms per substep by stage:{}; host traffic per substep: {}\n", name,
+            quadrature_points, evaluations, split, traffic_of_one(key, [&] { sim.substep(dt); }));
       }
   }
 }

@@ -1,7 +1,8 @@
 // rom suite (ROM paper, Fig. 20 and Tables 3-6): for a scene and a model trained on its sweep, the
 // full-order run and every quadrature × projection pair at 10, 50 and all sample points (or
 // --rom-samples), on the same device: wall seconds per simulated second, speedup over the full-order
-// run, and the accumulated position error against it. Needs --scene and --rom-model (and --set for the scene's parameters).
+// run, and the accumulated position error against it. Needs --scene and --rom-model (and --set for the scene's
+// parameters).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -58,12 +59,12 @@ void run_rom_suite(Context& context) {
     const Measurement full = context.time(
         "rom", "full_order", exec, frames, "frame",
         [&] {
-          engine::FullOrderSim sim(exec, setup.config, setup.particles);
-          reference.assign(1, sim.particles().positions_in_initial_order(exec));
-          for (std::int64_t k = 1; k <= frames; ++k) {
-            sim.advance_to(frame_time(scene, k));
-            reference.push_back(sim.particles().positions_in_initial_order(exec));
-          }
+      engine::FullOrderSim sim(exec, setup.config, setup.particles);
+      reference.assign(1, sim.particles().positions_in_initial_order(exec));
+      for (std::int64_t k = 1; k <= frames; ++k) {
+        sim.advance_to(frame_time(scene, k));
+        reference.push_back(sim.particles().positions_in_initial_order(exec));
+      }
         },
         0.0, options.scene);
     const std::string place = fmt::format("{}{}", full.backend, full.threads);
@@ -72,7 +73,8 @@ void run_rom_suite(Context& context) {
 
     std::vector<ReducedCase> cases;
     for (const engine::RomQuadrature quadrature : {engine::RomQuadrature::Lagrangian, engine::RomQuadrature::Eulerian})
-      for (const engine::RomProjection projection : {engine::RomProjection::PositionVelocity, engine::RomProjection::Velocity})
+      for (const engine::RomProjection projection :
+           {engine::RomProjection::PositionVelocity, engine::RomProjection::Velocity})
         for (const int samples : options.rom_samples) cases.push_back({quadrature, projection, Index(samples)});
     for (const ReducedCase& c : cases) {
       engine::ReducedOptions reduced;
@@ -86,16 +88,16 @@ void run_rom_suite(Context& context) {
       const Measurement m = context.time(
           "rom", c.name(), exec, frames, "frame",
           [&] {
-            engine::ReducedSim sim(exec, setup.config, setup.particles, model.map, model.xhat, reduced);
-            run::PositionErrorAccumulator accumulator;
-            accumulator.add_frame(0.0, sim.decode_positions(), reference[0]);
-            for (std::int64_t k = 1; k <= frames; ++k) {
-              sim.advance_to(frame_time(scene, k));
-              accumulator.add_frame(sim.time(), sim.decode_positions(), reference[std::size_t(k)]);
-            }
-            error = accumulator.result();
-            stages = sim.stage_seconds();
-            substeps = sim.steps();
+        engine::ReducedSim sim(exec, setup.config, setup.particles, model.map, model.xhat, reduced);
+        run::PositionErrorAccumulator accumulator;
+        accumulator.add_frame(0.0, sim.decode_positions(), reference[0]);
+        for (std::int64_t k = 1; k <= frames; ++k) {
+          sim.advance_to(frame_time(scene, k));
+          accumulator.add_frame(sim.time(), sim.decode_positions(), reference[std::size_t(k)]);
+        }
+        error = accumulator.result();
+        stages = sim.stage_seconds();
+        substeps = sim.steps();
           },
           0.0, fmt::format("{} against the full-order run", options.scene));
       const std::string key = fmt::format("rom.{}.{}", c.name(), place);

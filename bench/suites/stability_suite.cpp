@@ -43,14 +43,15 @@ void run_stability_suite(Context& context) {
   const Exec exec = context.execs().back();  // the GPU when asked for, else the CPU at its most threads
 
   int cases = 0, acceptable = 0, finished = 0;
-  for (const material::MaterialModel model : {material::MaterialModel::FixedCorotated, material::MaterialModel::NeoHookean,
-                                              material::MaterialModel::HenckyStVK})
+  for (const material::MaterialModel model : {material::MaterialModel::FixedCorotated,
+                                              material::MaterialModel::NeoHookean, material::MaterialModel::HenckyStVK})
     for (const double youngs : {1e4, 1e6, 1e8, 1e9}) {
       if (youngs < min_youngs || youngs > max_youngs) continue;
       for (const double poisson : {0.0, 0.3, 0.45, 0.49})
         for (const analysis::StabilityScenario scenario :
-             {analysis::StabilityScenario::FreeFallBounce, analysis::StabilityScenario::CompressRelease, analysis::StabilityScenario::ForcedInversion,
-              analysis::StabilityScenario::Spin, analysis::StabilityScenario::WallImpact})
+             {analysis::StabilityScenario::FreeFallBounce, analysis::StabilityScenario::CompressRelease,
+              analysis::StabilityScenario::ForcedInversion, analysis::StabilityScenario::Spin,
+              analysis::StabilityScenario::WallImpact})
           for (const bool implicit : {false, true})
             for (const bool enriched : {false, true}) {
               if (!wanted(options, "implicit", implicit) || !wanted(options, "enriched", enriched)) continue;
@@ -64,13 +65,13 @@ void run_stability_suite(Context& context) {
               context.record(key + ".simulated_fraction", outcome.simulated_seconds / outcome.end_seconds);
               context.record(key + ".energy_ratio", outcome.energy_ratio);
               context.record(key + ".largest_enriched_share", outcome.largest_enriched_share);
-              fmt::print("{:<72} {:<15} t {:.4f}/{:.4f} s  {:>6} substeps  energy x{:<9.3g} enriched {:4.2f} "
-                         "{:6.2f} s  {}{}\n",
-                         c.name(), outcome.status_name(), outcome.simulated_seconds, outcome.end_seconds,
-                         outcome.substeps,
-                         outcome.energy_ratio, outcome.largest_enriched_share, outcome.wall_seconds,
-                         outcome.acceptable() ? "ok" : "NOT OK",
-                         outcome.message.empty() ? "" : "  " + outcome.message.substr(0, 160));
+              fmt::print(
+                  "{:<72} {:<15} t {:.4f}/{:.4f} s  {:>6} substeps  energy x{:<9.3g} enriched {:4.2f} "
+                  "{:6.2f} s  {}{}\n",
+                  c.name(), outcome.status_name(), outcome.simulated_seconds, outcome.end_seconds, outcome.substeps,
+                  outcome.energy_ratio, outcome.largest_enriched_share, outcome.wall_seconds,
+                  outcome.acceptable() ? "ok" : "NOT OK",
+                  outcome.message.empty() ? "" : "  " + outcome.message.substr(0, 160));
             }
     }
   context.record("stability.cases", cases);

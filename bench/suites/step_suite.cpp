@@ -61,10 +61,9 @@ void run_step_suite(Context& context) {
           const Index n = sim.particles().count();
           const std::string kernel = p2g == engine::P2GKernel::Tiled ? "tiled" : "portable";
           const Measurement& m = context.time(
-              "step", fmt::format("{}_{}k_{}", c.name, nominal / 1000, kernel), exec, n * substeps,
-              "particle-substep",
+              "step", fmt::format("{}_{}k_{}", c.name, nominal / 1000, kernel), exec, n * substeps, "particle-substep",
               [&] {
-                for (int s = 0; s < substeps; ++s) sim.substep(dt);
+            for (int s = 0; s < substeps; ++s) sim.substep(dt);
               },
               0.0, fmt::format("{} particles, dx = {:.4g} m, {} P2G", n, sim.config().dx, kernel));
           const std::string where = fmt::format("step.{}.{}{}", m.name, m.backend, m.threads);

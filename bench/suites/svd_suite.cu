@@ -7,8 +7,8 @@
 
 #include "bench/suites/suites.h"
 #include "bench/suites/svd_eigen_baseline.h"
-#include "kernels/core/error.h"
 #include "kernels/core/device_buffer.h"
+#include "kernels/core/error.h"
 #include "kernels/math/mat3_planes.h"
 #include "kernels/svd/svd3_batched.h"
 
@@ -27,9 +27,7 @@ namespace {
 constexpr double kBytesPerSvd = (9 + 21) * sizeof(float);
 
 // How the memory suite names a place in its records ("cpu_threads=2", "cuda").
-std::string place(const Exec& exec) {
-  return exec.is_cuda() ? "cuda" : "cpu_threads=" + std::to_string(exec.threads);
-}
+std::string place(const Exec& exec) { return exec.is_cuda() ? "cuda" : "cpu_threads=" + std::to_string(exec.threads); }
 
 // Standard-normal entries: generic matrices, the inputs every solver sees most.
 std::vector<float> random_planes(Index n) {
@@ -101,23 +99,30 @@ double time_cusolver(Context& context, const Exec& exec, Mat3Planes<const float>
   const GesvdjSession session(exec);
   const cusolverEigMode_t mode = CUSOLVER_EIG_MODE_VECTOR;
   int work_size = 0;
-  check_cusolver(cusolverDnSgesvdjBatched_bufferSize(session.handle(), mode, kSize, kSize, A.data(), kSize, S.data(),
-                                                     U.data(), kSize, V.data(), kSize, &work_size,
-                                                     session.parameters(), batch),
-                 "cusolverDnSgesvdjBatched_bufferSize");
+  check_cusolver(
+      cusolverDnSgesvdjBatched_bufferSize(session.handle(), mode, kSize, kSize, A.data(), kSize, S.data(), U.data(),
+                                          kSize, V.data(), kSize, &work_size, session.parameters(), batch),
+      "cusolverDnSgesvdjBatched_bufferSize");
   DeviceBuffer<float> work(Backend::Cuda, work_size);
 
-  Measurement measurement{"svd", "cusolver_gesvdj_batched<float>", "cuda", 0, n, "svd", {}, kBytesPerSvd,
+  Measurement measurement{"svd",
+                          "cusolver_gesvdj_batched<float>",
+                          "cuda",
+                          0,
+                          n,
+                          "svd",
+                          {},
+                          kBytesPerSvd,
                           "library defaults: tolerance = machine precision, <= 100 sweeps"};
   DeviceTimer timer(exec);
   const Options& options = context.options();
   for (int run = 0; run < options.warmup + options.repeats; ++run) {
     memory::copy(A.data(), Backend::Cuda, pristine.data(), Backend::Cuda, A.bytes(), exec.stream);
     timer.start();
-    check_cusolver(cusolverDnSgesvdjBatched(session.handle(), mode, kSize, kSize, A.data(), kSize, S.data(), U.data(),
-                                            kSize, V.data(), kSize, work.data(), work_size, info.data(),
-                                            session.parameters(), batch),
-                   "cusolverDnSgesvdjBatched");
+    check_cusolver(
+        cusolverDnSgesvdjBatched(session.handle(), mode, kSize, kSize, A.data(), kSize, S.data(), U.data(), kSize,
+                                 V.data(), kSize, work.data(), work_size, info.data(), session.parameters(), batch),
+        "cusolverDnSgesvdjBatched");
     const double seconds = timer.stop();
     if (run >= options.warmup) measurement.seconds.push_back(seconds);
   }
@@ -138,8 +143,8 @@ void run_svd_suite(Context& context) {
     const Measurement& romp = context.time(
         "svd", "romp_svd3<float>", exec, n, "svd",
         [&] {
-          svd3_batched(exec, F_planes, Mat3Planes<float>(U.data(), n), Vec3Planes<float>(sigma.data(), n),
-                       Mat3Planes<float>(V.data(), n));
+      svd3_batched(exec, F_planes, Mat3Planes<float>(U.data(), n), Vec3Planes<float>(sigma.data(), n),
+                   Mat3Planes<float>(V.data(), n));
         },
         kBytesPerSvd);
     // Copied out: later measurements may reallocate the context's list.
@@ -154,8 +159,9 @@ void run_svd_suite(Context& context) {
       if (!eigen) eigen = std::make_unique<EigenSvdBaseline>(host_F.data(), n);
       const double eigen_per_second =
           context
-              .time("svd", "eigen_jacobi_svd<float>", exec, n, "svd", [&] { eigen->run(exec.threads); }, kBytesPerSvd,
-                    "Eigen at the build's baseline ISA; romp dispatches AVX2/AVX-512 clones where the CPU has them")
+              .time(
+                  "svd", "eigen_jacobi_svd<float>", exec, n, "svd", [&] { eigen->run(exec.threads); }, kBytesPerSvd,
+                  "Eigen at the build's baseline ISA; romp dispatches AVX2/AVX-512 clones where the CPU has them")
               .items_per_second();
       context.record("svd." + place(exec) + ".speedup_vs_eigen", romp_per_second / eigen_per_second);
     }

@@ -35,13 +35,14 @@ void run_train_suite(Context& context) {
   const nn::diffmpm::DiffMpmConfig config = nclaw::differentiable_config(scene, "bench train");
   const torch::Tensor mass = tensor_of(p.mass, 1).flatten(), volume = tensor_of(p.volume0, 1).flatten();
   const nn::diffmpm::MpmState initial{tensor_of(p.x, 3), tensor_of(p.v, 3), torch::zeros({9, n}),
-                             torch::eye(3).reshape({9, 1}).expand({9, n}).contiguous()};
+                                      torch::eye(3).reshape({9, 1}).expand({9, n}).contiguous()};
   const scene::MaterialSpecification& jelly = scene.materials.front();
   const torch::Tensor youngs = torch::tensor(float(jelly.youngs_modulus)),
                       poisson = torch::tensor(float(jelly.poissons_ratio));
   const nn::diffmpm::ConstitutiveLaws truth_law{
       [&](const torch::Tensor& F) { return nn::nclaw::fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
-  const nn::nclaw::Trajectory truth = nn::nclaw::simulate(nn::diffmpm::DiffMpm(config, mass, volume), initial, truth_law, steps);
+  const nn::nclaw::Trajectory truth =
+      nn::nclaw::simulate(nn::diffmpm::DiffMpm(config, mass, volume), initial, truth_law, steps);
 
   for (const Exec& exec : context.execs()) {
     if (exec.is_cuda() && !torch::cuda::is_available()) {

@@ -18,12 +18,12 @@
 namespace romp::analysis {
 namespace {
 
-constexpr float kDx = 0.01f;           // a 20-cell domain of 0.2 m
+constexpr float kDx = 0.01f;  // a 20-cell domain of 0.2 m
 constexpr std::int32_t kCells = 20;
-constexpr float kSide = 0.04f;         // the cube, 8 particles per side at 2 per cell
+constexpr float kSide = 0.04f;  // the cube, 8 particles per side at 2 per cell
 constexpr float kDensity = 1000.0f;
 constexpr float kMinStretch = 0.1f;
-constexpr float kFloor = 3 * kDx;      // the wall nodes end here
+constexpr float kFloor = 3 * kDx;  // the wall nodes end here
 // Heights for the gravitational energy are measured from the floor.
 const Vec3<float> kFloorOrigin(0.0f, kFloor, 0.0f);
 
@@ -118,9 +118,10 @@ Setup build(const StabilityCase& c) {
     case StabilityScenario::ForcedInversion: {
       // The top layer is driven 1.5 heights down, through the bottom layer, which holds still.
       const float layer = 0.5f * kDx;
-      config.dirichlet = {engine::DirichletSpec{Vec3<float>::constant(centre), Vec3<float>::zero(), Vec3<float>::zero(), 0.1},
-                          engine::DirichletSpec{Vec3<float>::constant(centre), Vec3<float>(0.0f, -1.5f * kSide / 0.1f, 0.0f),
-                                        Vec3<float>::zero(), 0.1}};
+      config.dirichlet = {
+          engine::DirichletSpec{Vec3<float>::constant(centre), Vec3<float>::zero(), Vec3<float>::zero(), 0.1},
+          engine::DirichletSpec{Vec3<float>::constant(centre), Vec3<float>(0.0f, -1.5f * kSide / 0.1f, 0.0f),
+                                Vec3<float>::zero(), 0.1}};
       for (Index p = 0; p < n; ++p) {
         const float y = init.x[std::size_t(n + p)];
         if (y < low[1] + layer) init.dirichlet_group[std::size_t(p)] = 0;
@@ -199,7 +200,8 @@ StabilityOutcome run_stability_case(const Exec& exec, const StabilityCase& c, co
         break;
       }
       sim.substep(float(std::min<double>(sim.stable_dt(), setup.end - sim.time())));
-      if (!reference && sim.time() >= setup.reference_time) reference = mechanical_energy(sim, setup.init, kFloorOrigin);
+      if (!reference && sim.time() >= setup.reference_time)
+        reference = mechanical_energy(sim, setup.init, kFloorOrigin);
       if (reference && sim.time() >= next_sample) {
         largest_after = std::max(largest_after, mechanical_energy(sim, setup.init, kFloorOrigin));
         next_sample += sample_interval;

@@ -24,7 +24,7 @@ struct StabilityCase {
   double youngs_modulus = 1e6;  // Pa
   double poissons_ratio = 0.3;
   StabilityScenario scenario = StabilityScenario::FreeFallBounce;
-  bool enriched = false;        // particle domains with enrichment at 0.6, else plain particles
+  bool enriched = false;  // particle domains with enrichment at 0.6, else plain particles
   // Implicit: the Newton step at cfl kImplicitStabilityCfl (with domains, enriched corners are
   // unknowns of the solve beside the grid nodes).
   bool implicit = false;

@@ -9,10 +9,11 @@
 namespace romp::cli {
 
 CLI::App* add_compare_command(CLI::App& app, CompareOptions& options) {
-  CLI::App* compare =
-      app.add_subcommand("compare", "Position error (%) of a run against a reference run of the same scene (ROM paper)");
-  compare->add_option("run", options.run, "Snapshot file (.h5) of the run to measure")->required()->check(
-      CLI::ExistingFile);
+  CLI::App* compare = app.add_subcommand(
+      "compare", "Position error (%) of a run against a reference run of the same scene (ROM paper)");
+  compare->add_option("run", options.run, "Snapshot file (.h5) of the run to measure")
+      ->required()
+      ->check(CLI::ExistingFile);
   compare->add_option("reference", options.reference, "Snapshot file (.h5) of the reference (full-order) run")
       ->required()
       ->check(CLI::ExistingFile);
@@ -32,10 +33,10 @@ int compare_command(const CompareOptions& options) {
       fmt::print("{:>6}  {:>12.6g}  {:>16.6g}  {:>16.6g}\n", k, error.frame_times[k], error.frame_percent[k],
                  error.frame_mse[k]);
   }
-  fmt::print("{} against {}: accumulated position error {:.6g}% over {} frames of {} material points; "
-             "mean position MSE over frames after the first {:.6g} m^2\n",
-             options.run, options.reference, error.percent, error.frame_percent.size(), error.particles,
-             error.mean_mse);
+  fmt::print(
+      "{} against {}: accumulated position error {:.6g}% over {} frames of {} material points; "
+      "mean position MSE over frames after the first {:.6g} m^2\n",
+      options.run, options.reference, error.percent, error.frame_percent.size(), error.particles, error.mean_mse);
   return kExitDone;
 }
 

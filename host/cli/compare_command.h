@@ -10,8 +10,8 @@
 namespace romp::cli {
 
 struct CompareOptions {
-  std::string run, reference;  // snapshot files
-  bool per_frame = false;      // also every frame's error
+  std::string run, reference;     // snapshot files
+  bool per_frame = false;         // also every frame's error
   std::int64_t first_frames = 0;  // > 0: frames 0 .. N-1 only
 };
 

@@ -30,7 +30,8 @@ std::string info_report(const BuildInfo& build, const CudaProbe& cuda, const nn:
   line("CUDA backend", build.cuda ? fmt::format("compiled (nvcc {}, architectures {})", build.cuda_compiler_version,
                                                 build.cuda_architectures)
                                   : "not compiled");
-  line("CUDA runtime/driver", fmt::format("{} / {}", cuda_version(cuda.runtime_version), cuda_version(cuda.driver_version)));
+  line("CUDA runtime/driver",
+       fmt::format("{} / {}", cuda_version(cuda.runtime_version), cuda_version(cuda.driver_version)));
   line("LibTorch", fmt::format("{} (CUDA kernels: {}, CUDA available now: {})", torch.version,
                                yes_no(torch.compiled_with_cuda), yes_no(torch.cuda_available)));
   line("HDF5", build.hdf5_version);

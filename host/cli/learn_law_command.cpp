@@ -28,9 +28,12 @@ CLI::App* add_learn_law_command(CLI::App& app, LearnLawOptions& options) {
   command->add_option("--epochs", options.epochs, "Training epochs, one rollout each")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  command->add_option("--steps", options.steps, "Substeps per rollout")->check(CLI::PositiveNumber)->capture_default_str();
-  command->add_option("--checkpoint-every", options.checkpoint_every,
-                      "Keep states only this many substeps apart and recompute between them in the backward pass")
+  command->add_option("--steps", options.steps, "Substeps per rollout")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command
+      ->add_option("--checkpoint-every", options.checkpoint_every,
+                   "Keep states only this many substeps apart and recompute between them in the backward pass")
       ->check(CLI::NonNegativeNumber);
   command->add_option("--seed", options.seed, "Seed of the initial weights")->capture_default_str();
   command
@@ -76,13 +79,14 @@ int run_oracle(const nclaw::GroundTruth& truth, const LearnLawOptions& options) 
   if (options.method == "labeled") {
     nn::nclaw::SupervisedOptions supervised;
     supervised.epochs = options.epochs;
-    const nn::nclaw::LawFile fitted = nclaw::fit_labeled_oracle(truth, options.trajectory, supervised, options.pair_stride,
-                                                         options.seed);
+    const nn::nclaw::LawFile fitted =
+        nclaw::fit_labeled_oracle(truth, options.trajectory, supervised, options.pair_stride, options.seed);
     nn::nclaw::write_law_file(options.output, fitted.laws, fitted.training);
-    spdlog::info("wrote {} (labeled oracle, {} epochs: relative stress error {:.3g} -> {:.3g}); reconstruction "
-                 "error {:.4g} m^2",
-                 options.output, options.epochs, fitted.training.loss.front(), fitted.training.loss.back(),
-                 fitted.training.reconstruction_error);
+    spdlog::info(
+        "wrote {} (labeled oracle, {} epochs: relative stress error {:.3g} -> {:.3g}); reconstruction "
+        "error {:.4g} m^2",
+        options.output, options.epochs, fitted.training.loss.front(), fitted.training.loss.back(),
+        fitted.training.reconstruction_error);
     return 0;
   }
   nn::nclaw::SystemIdentificationOptions identification;
@@ -91,18 +95,20 @@ int run_oracle(const nclaw::GroundTruth& truth, const LearnLawOptions& options) 
   identification.initial_youngs = options.initial_youngs;
   identification.initial_poisson = options.initial_poisson;
   const nclaw::IdentifiedMaterial found =
-      nclaw::identify_material(truth, identification, [&](int64_t epoch, double loss, double youngs, double poisson) {
-        spdlog::info("epoch {}/{}: loss {:.6g}  E = {:.6g} Pa, nu = {:.6g}", epoch, options.epochs, loss, youngs, poisson);
+      nclaw::identify_material(truth, identification,
+                               [&](int64_t epoch, double loss, double youngs, double poisson) {
+    spdlog::info("epoch {}/{}: loss {:.6g}  E = {:.6g} Pa, nu = {:.6g}", epoch, options.epochs, loss, youngs, poisson);
       });
   io::write_file_atomically(
       options.output,
       fmt::format("# romp learn-law --method system-identification {}: fixed corotated fitted through the "
-                  "differentiable\n# simulation in {} epochs from E = {} Pa, nu = {}; reconstruction error {:.6g} m^2 (mean position MSE "
+                  "differentiable\n# simulation in {} epochs from E = {} Pa, nu = {}; reconstruction error {:.6g} m^2 "
+                  "(mean position MSE "
                   "every {} frames of a free rollout)\n[materials.identified]\nmodel = \"fixed-corotated\"\n"
                   "density = {}\nyoungs_modulus = {:.8g}\npoissons_ratio = {:.8g}\n",
                   options.trajectory, options.epochs, options.initial_youngs, options.initial_poisson,
-                  found.reconstruction_error, nn::nclaw::kEvaluationFrameStride,
-                  truth.materials.front().density, found.youngs_modulus, found.poissons_ratio));
+                  found.reconstruction_error, nn::nclaw::kEvaluationFrameStride, truth.materials.front().density,
+                  found.youngs_modulus, found.poissons_ratio));
   spdlog::info("wrote {}: E = {:.6g} Pa, nu = {:.6g}; reconstruction error {:.4g} m^2", options.output,
                found.youngs_modulus, found.poissons_ratio, found.reconstruction_error);
   return 0;
@@ -113,15 +119,14 @@ int run_oracle(const nclaw::GroundTruth& truth, const LearnLawOptions& options) 
 int learn_law_command(DeviceChoice choice, int threads, const LearnLawOptions& options) {
   const std::string extension = options.method == "system-identification" ? ".toml" : ".h5";
   if (std::filesystem::path(options.output).extension() != extension)
-    throw CLI::ValidationError("--output", "learn-law --method " + options.method + " writes a " + extension +
-                                               " file, got " + options.output);
+    throw CLI::ValidationError(
+        "--output", "learn-law --method " + options.method + " writes a " + extension + " file, got " + options.output);
   // Checked before training, not after it: every method ends by measuring the reconstruction error
   // every kEvaluationFrameStride frames of a rollout of --steps substeps.
   if (options.steps < nn::nclaw::kEvaluationFrameStride)
-    throw CLI::ValidationError("--steps", "the reconstruction error is measured every " +
-                                              std::to_string(nn::nclaw::kEvaluationFrameStride) +
-                                              " substeps, so --steps must be at least that, got " +
-                                              std::to_string(options.steps));
+    throw CLI::ValidationError(
+        "--steps", "the reconstruction error is measured every " + std::to_string(nn::nclaw::kEvaluationFrameStride) +
+                       " substeps, so --steps must be at least that, got " + std::to_string(options.steps));
   const Exec exec = select_backend(choice, threads);
   // The romp kernels behind the autograd functions and LibTorch's own ops share the CPU threads: both get
   // the run's count (LibTorch's own default can be lower, see select_exec).
@@ -164,11 +169,12 @@ int learn_law_command(DeviceChoice choice, int threads, const LearnLawOptions& o
     trainer.save_checkpoint(checkpoint);
     seconds_so_far += r.seconds;
     const double eta = seconds_so_far / double(r.epoch + 1 - first_epoch) * double(training.epochs - r.epoch - 1);
-    spdlog::info("epoch {}/{}: loss {:.6g}  teacher forcing every {} substeps  learning rates {:.3g}, {:.3g}  "
-                 "gradient norms {:.3g}, {:.3g}  {:.2f} s (rollouts {:.2f} s, backward {:.2f} s), ETA {:.0f} s",
-                 r.epoch + 1, training.epochs, r.loss, r.teacher_forcing_period, r.elastic_learning_rate,
-                 r.plastic_learning_rate, r.elastic_gradient_norm, r.plastic_gradient_norm, r.seconds,
-                 r.forward_seconds, r.backward_seconds, eta);
+    spdlog::info(
+        "epoch {}/{}: loss {:.6g}  teacher forcing every {} substeps  learning rates {:.3g}, {:.3g}  "
+        "gradient norms {:.3g}, {:.3g}  {:.2f} s (rollouts {:.2f} s, backward {:.2f} s), ETA {:.0f} s",
+        r.epoch + 1, training.epochs, r.loss, r.teacher_forcing_period, r.elastic_learning_rate,
+        r.plastic_learning_rate, r.elastic_gradient_norm, r.plastic_gradient_norm, r.seconds, r.forward_seconds,
+        r.backward_seconds, eta);
     if (run::interrupt_requested() && !trainer.finished()) {
       spdlog::warn("interrupted after epoch {}; continue with --resume (checkpoint {})", trainer.epochs_done(),
                    checkpoint);
@@ -177,7 +183,7 @@ int learn_law_command(DeviceChoice choice, int threads, const LearnLawOptions& o
   }
   const double reconstruction = trainer.reconstruction_error();
   nn::nclaw::write_law_file(options.output, trainer.laws(),
-                     {options.trajectory, training.steps, trainer.losses(), reconstruction});
+                            {options.trajectory, training.steps, trainer.losses(), reconstruction});
   std::filesystem::remove(checkpoint);
   spdlog::info("wrote {}; reconstruction error (mean position MSE every {} frames of a free rollout) {:.4g} m^2",
                options.output, nn::nclaw::kEvaluationFrameStride, reconstruction);

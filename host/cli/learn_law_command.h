@@ -24,7 +24,7 @@ struct LearnLawOptions {
   // "motion" (the method), or an oracle of host/nclaw/oracles.h: "labeled" writes a law file,
   // "system-identification" a scene material table (.toml) with the identified E and ν.
   std::string method = "motion";
-  int64_t pair_stride = 10;  // labeled: constitutive pairs from every this many frames
+  int64_t pair_stride = 10;                            // labeled: constitutive pairs from every this many frames
   double initial_youngs = 3e4, initial_poisson = 0.3;  // system-identification: the starting guess
 };
 

@@ -2,8 +2,8 @@
 // codes (README "Exit codes", exit_codes.h): 0 done, 1 run failed, 2 bad arguments, 3 invalid scene or
 // input file, 4 simulation went non-finite, 5 sweep members failed, 130 interrupted (resumable with
 // --resume).
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include <csignal>
 #include <exception>

@@ -22,17 +22,19 @@ CLI::App* add_run_command(CLI::App& app, RunCommandOptions& options, const std::
   command->add_flag("--deterministic", options.deterministic, "Bitwise reproducible (CPU, one thread)");
   command->add_flag("--ply", options.run.ply, "Also write a PLY point cloud per frame");
   command->add_flag("!--no-progress", options.run.progress, "No progress bar");
-  command->add_option("--output-points", options.run.output_points,
-                  "Write the frames at the material points of this snapshot (e.g. a finer sampling of the same "
-                  "body) instead of the scene's: decoded by the map with --rom (super-resolution), carried as "
-                  "tracers otherwise (x and v; in particle domains where the scene has them, else by the grid)")
+  command
+      ->add_option("--output-points", options.run.output_points,
+                   "Write the frames at the material points of this snapshot (e.g. a finer sampling of the same "
+                   "body) instead of the scene's: decoded by the map with --rom (super-resolution), carried as "
+                   "tracers otherwise (x and v; in particle domains where the scene has them, else by the grid)")
       ->check(CLI::ExistingFile)
       ->excludes("--resume");
   add_set_option(*command, options.scene);
   add_law_option(*command, options.scene);
   run::add_reduced_run_options(*command, options.reduced);
-  command->add_option("--compare", options.reference,
-                  "Then print the run's position error against this reference run of the same scene (as compare)")
+  command
+      ->add_option("--compare", options.reference,
+                   "Then print the run's position error against this reference run of the same scene (as compare)")
       ->check(CLI::ExistingFile);
   command->add_flag("--frames", options.per_frame, "With --compare: also print the error of every frame");
   return command;
@@ -46,7 +48,8 @@ int run_command(DeviceChoice choice, int threads, RunCommandOptions options) {
     choice = DeviceChoice::Cpu;
     threads = 1;
   }
-  const scene::Scene scene = scene::load_scene(options.scene.path, options.scene.overrides(), options.scene.learned_laws());
+  const scene::Scene scene =
+      scene::load_scene(options.scene.path, options.scene.overrides(), options.scene.learned_laws());
   if (!options.reduced.model.empty())
     options.run.make_reduced = [reduced = options.reduced](const Exec& exec, const scene::SceneSetup& setup) {
       return run::make_reduced_simulation(reduced, exec, setup);
@@ -60,10 +63,11 @@ int run_command(DeviceChoice choice, int threads, RunCommandOptions options) {
   }
   // The file holds frame 0, the initial state, besides the frames simulated (by this process, or before
   // a resume).
-  fmt::print("{}: {} particles, {} frames simulated ({} in the file, frame 0 the initial state), {} substeps ({:.4g} s "
-             "simulated) in {:.3f} s on {}\n",
-             scene.name, r.particles, r.frames_written, r.last_frame + 1, r.substeps, r.simulated_seconds,
-             r.wall_seconds, to_string(exec.backend));
+  fmt::print(
+      "{}: {} particles, {} frames simulated ({} in the file, frame 0 the initial state), {} substeps ({:.4g} s "
+      "simulated) in {:.3f} s on {}\n",
+      scene.name, r.particles, r.frames_written, r.last_frame + 1, r.substeps, r.simulated_seconds, r.wall_seconds,
+      to_string(exec.backend));
   for (const std::string& line : r.diagnostics) fmt::print("{}\n", line);
   fmt::print("output: {}\n\n{}", r.output, run::stage_table(r.stage_seconds));
   if (options.reference.empty()) return kExitDone;

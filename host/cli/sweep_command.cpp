@@ -11,8 +11,9 @@ namespace romp::cli {
 
 CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& options) {
   CLI::App* sweep = app.add_subcommand("sweep", "Run every member of a scene's [sweep]");
-  sweep->add_option("scene", options.scene.path, "Scene file with a [sweep] table")->required()->check(
-      CLI::ExistingFile);
+  sweep->add_option("scene", options.scene.path, "Scene file with a [sweep] table")
+      ->required()
+      ->check(CLI::ExistingFile);
   sweep->add_option("-o,--output", options.sweep.output_dir, "Output folder")->required();
   sweep->add_option("-j,--jobs", options.sweep.jobs, "Members run at once on this machine")->check(CLI::PositiveNumber);
   add_set_option(*sweep, options.scene);
@@ -27,10 +28,10 @@ int sweep_command(const GlobalOptions& global, SweepCommandOptions options) {
   options.sweep.overrides = options.scene.overrides();
   const std::string& path = options.scene.path;
   const run::SweepSummary s = run::run_sweep(path, options.sweep);
-  fmt::print("sweep {}: {} members; rank {}/{} was assigned {}: {} already finished, {} run now, {} claimed by "
-             "another process, {} failed\n",
-             path, s.members, s.rank, s.ranks, s.assigned, s.finished_before, s.ran, s.busy_elsewhere,
-             s.failed.size());
+  fmt::print(
+      "sweep {}: {} members; rank {}/{} was assigned {}: {} already finished, {} run now, {} claimed by "
+      "another process, {} failed\n",
+      path, s.members, s.rank, s.ranks, s.assigned, s.finished_before, s.ran, s.busy_elsewhere, s.failed.size());
   for (const std::string& failure : s.failed) fmt::print("  {}\n", failure);
   return s.failed.empty() ? kExitDone : kExitSweepMembersFailed;
 }

@@ -1,11 +1,11 @@
 // `romp train-rom`: options, device choice, the progress line, Ctrl-C and the model file.
 #include "host/cli/train_rom_command.h"
 
-#include <CLI/CLI.hpp>
-#include <omp.h>
 #include <fmt/format.h>
+#include <omp.h>
 #include <spdlog/spdlog.h>
 #include <torch/torch.h>
+#include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -35,12 +35,13 @@ std::string errors_text(const nn::rom::ReconstructionErrors& e) {
 // 1867 points)  epoch 0.55 s, 12.3 s, ETA 605 s"
 void print_report(const nn::rom::EpochReport& r) {
   const double per_epoch = r.seconds / double(r.epoch - r.started_at);
-  const std::string test =
-      !r.test ? "n/a (no test members)"
-      : r.test_points < r.points ? fmt::format("{} ({} of {} points)", errors_text(*r.test), r.test_points, r.points)
-                                 : errors_text(*r.test);
+  const std::string test = !r.test ? "n/a (no test members)"
+                           : r.test_points < r.points
+                               ? fmt::format("{} ({} of {} points)", errors_text(*r.test), r.test_points, r.points)
+                               : errors_text(*r.test);
   fmt::print(
-      "epoch {}/{}  lr {:.0e}  loss {:.3e} (x {:.2e}, F {:.2e}, v {:.2e})  test {}  epoch {:.2f} s, {:.1f} s, ETA {:.0f} "
+      "epoch {}/{}  lr {:.0e}  loss {:.3e} (x {:.2e}, F {:.2e}, v {:.2e})  test {}  epoch {:.2f} s, {:.1f} s, ETA "
+      "{:.0f} "
       "s{}\n",
       r.epoch, r.epochs, r.learning_rate, r.loss, r.position, r.F, r.velocity, test, r.epoch_seconds, r.seconds,
       per_epoch * double(r.epochs - r.epoch), r.checkpointed ? "  [checkpoint]" : "");
@@ -69,12 +70,15 @@ CLI::App* add_train_rom_command(CLI::App& app, TrainRomOptions& options) {
   command->add_option("--latent", s.architecture.latent, "r, the number of generalized coordinates")
       ->capture_default_str()
       ->check(CLI::Range(1, 256));
-  command->add_flag_callback("--linear", [&s] { s.architecture.hidden_layers = 0; },
-                             "Linear manifold baseline: g is one affine layer (paper Sec. 5.4.1)");
+  command->add_flag_callback(
+      "--linear", [&s] { s.architecture.hidden_layers = 0; },
+      "Linear manifold baseline: g is one affine layer (paper Sec. 5.4.1)");
   command->add_option("--epochs", s.epochs, "Training epochs (passes over the training snapshots)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  command->add_option("--batch", s.batch, "Snapshots per mini-batch")->capture_default_str()->check(CLI::PositiveNumber);
+  command->add_option("--batch", s.batch, "Snapshots per mini-batch")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   command->add_option("--points", s.points, "Material points per snapshot in each mini-batch's loss")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
@@ -98,8 +102,7 @@ CLI::App* add_train_rom_command(CLI::App& app, TrainRomOptions& options) {
       ->add_option_function<std::string>(
           "--derivatives",
           [&s](const std::string& method) {
-            s.derivatives = method == "autograd" ? nn::rom::DerivativeMethod::Autograd
-                                                 : nn::rom::DerivativeMethod::Analytic;
+    s.derivatives = method == "autograd" ? nn::rom::DerivativeMethod::Autograd : nn::rom::DerivativeMethod::Analytic;
           },
           "How ∇_X g and ∂g/∂x̂ are computed: analytic (forward tangents, default) or autograd")
       ->check(CLI::IsMember({"analytic", "autograd"}));

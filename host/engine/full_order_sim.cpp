@@ -157,7 +157,8 @@ void FullOrderSim::release_ended_dirichlet_groups() {
 }
 
 bool FullOrderSim::advance_to(double t, const std::function<bool()>& stop) {
-  return advance_clock(time_, t, [this] { return double(stable_dt()); }, [this](float dt) { substep(dt); }, stop);
+  return advance_clock(
+      time_, t, [this] { return double(stable_dt()); }, [this](float dt) { substep(dt); }, stop);
 }
 
 void FullOrderSim::restore_clock(double time, std::int64_t steps) {

@@ -14,8 +14,8 @@
 #include "host/engine/step_inputs.h"
 #include "host/engine/tracer_set.h"
 #include "kernels/core/device_buffer.h"
-#include "kernels/core/event_timeline.h"
 #include "kernels/core/error.h"
+#include "kernels/core/event_timeline.h"
 #include "kernels/core/exec.h"
 #include "kernels/mpm/particle_domains.h"
 #include "kernels/mpm/particle_set.h"
@@ -89,15 +89,15 @@ class FullOrderSim {
   std::optional<mpm::ParticleDomains> domains_;
   mpm::SparseGrid grid_;
   StepInputs inputs_;
-  DeviceBuffer<float> speed_slot_;  // mpm::max_particle_speed's result
+  DeviceBuffer<float> speed_slot_;              // mpm::max_particle_speed's result
   std::optional<ImplicitGridSolver> implicit_;  // with Integrator::Implicit only
   std::unique_ptr<NeuralMaterials> neural_;     // when some material is a learned law
   std::optional<TracerSet> tracers_;
   double time_ = 0.0;
   std::int64_t steps_ = 0;
-  std::vector<std::string> stages_;     // the stage table's names, in pipeline order
+  std::vector<std::string> stages_;       // the stage table's names, in pipeline order
   mutable EventTimeline stage_timeline_;  // read when the table is asked for
-  std::vector<bool> released_;  // per Dirichlet group
+  std::vector<bool> released_;            // per Dirichlet group
   double last_enriched_share_ = 0.0;
   EnrichmentStatistics enrichment_;
 };

@@ -47,7 +47,8 @@ ImplicitSolveReport ImplicitGridSolver::solve(const Exec& exec, const mpm::Parti
   reserve(particles.count, unknowns, domains.corners);
   const Span<float> x = x_.span().subspan(0, unknowns), r = r_.span().subspan(0, unknowns),
                     z = z_.span().subspan(0, unknowns), p = p_.span().subspan(0, unknowns),
-                    q = q_.span().subspan(0, unknowns), inverse_diagonal = inverse_diagonal_.span().subspan(0, unknowns);
+                    q = q_.span().subspan(0, unknowns),
+                    inverse_diagonal = inverse_diagonal_.span().subspan(0, unknowns);
   const Mat3Planes<float> projector(projector_.data(), unknowns / 3);
   const Span<material::PrincipalStiffness<float>> stiffness = stiffness_.span().subspan(0, particles.count);
 
@@ -108,10 +109,10 @@ ImplicitSolveReport ImplicitGridSolver::solve(const Exec& exec, const mpm::Parti
     mpm::store_velocities(exec, system, x);
   } else {
     ++totals_.not_converged;
-    spdlog::warn("step {}: the implicit solve did not converge ({} CG iterations{}, relative residual {:.3g}, "
-                 "tolerance {:.3g}); keeping the explicit velocities for this step",
-                 step_number, iterations, broke_down ? ", broke down" : "", report.relative_residual,
-                 config_.tolerance);
+    spdlog::warn(
+        "step {}: the implicit solve did not converge ({} CG iterations{}, relative residual {:.3g}, "
+        "tolerance {:.3g}); keeping the explicit velocities for this step",
+        step_number, iterations, broke_down ? ", broke down" : "", report.relative_residual, config_.tolerance);
   }
   return report;
 }

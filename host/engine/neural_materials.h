@@ -1,4 +1,5 @@
-// NeuralMaterials: the learned constitutive laws of a scene's neural materials, evaluated on the particles each substep.
+// NeuralMaterials: the learned constitutive laws of a scene's neural materials, evaluated on the particles each
+// substep.
 //
 // Ma et al. 2023 run a learned law inside an ordinary MPM step: P = elastic(F) before P2G, and
 // F ← plastic(F_trial) after G2P. LibTorch loads and holds the weights; this class runs both laws

@@ -152,8 +152,9 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   check_particle_tables(config_, reference.material, reference.dirichlet_group);
   ROMP_CHECK(!inputs_.plastic(), "the reduced-order model covers elastic materials (ROM paper, Sec. 3.2.2)");
   for (const MaterialSpec& m : config_.materials)
-    ROMP_CHECK(m.params.model != material::MaterialModel::Neural,
-               "the reduced-order step evaluates analytic materials in its kernels; run a scene with neural laws full-order");
+    ROMP_CHECK(
+        m.params.model != material::MaterialModel::Neural,
+        "the reduced-order step evaluates analytic materials in its kernels; run a scene with neural laws full-order");
   ROMP_CHECK(Index(xhat.size()) == latent_,
              fmt::format("x̂ holds {} values, the map's latent size is {}", xhat.size(), latent_));
   ROMP_CHECK(options_.samples >= 0 && options_.boundary_samples >= 0, "sample counts must be >= 0");
@@ -162,9 +163,9 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   if (options_.cfl > 0.0) config_.cfl = float(options_.cfl);
   ROMP_CHECK(options_.gauss_newton_iterations >= 1 && options_.gauss_newton_tolerance > 0.0,
              "Gauss–Newton needs at least one iteration and a tolerance > 0");
-  ROMP_CHECK(options_.points_per_cell >= 1 && options_.points_per_cell <= 8,
-             fmt::format("Eulerian quadrature points per cell per axis must be in [1, 8], got {}",
-                         options_.points_per_cell));
+  ROMP_CHECK(
+      options_.points_per_cell >= 1 && options_.points_per_cell <= 8,
+      fmt::format("Eulerian quadrature points per cell per axis must be in [1, 8], got {}", options_.points_per_cell));
 
   map_parameters_ = DeviceBuffer<float>::from_host(backend, map_.parameters);
   X_ = DeviceBuffer<float>::from_host(backend, reference.x);
@@ -284,9 +285,10 @@ std::pair<std::vector<double>, double> ReducedSim::solve_projection(Span<const f
 }
 
 Error ReducedSim::singular_projection() const {
-  return Error(fmt::format("step {} (t = {:.6g} s): the projection's normal equations are singular (do the samples "
-                           "move with the map at all?)",
-                           steps_, time_));
+  return Error(
+      fmt::format("step {} (t = {:.6g} s): the projection's normal equations are singular (do the samples "
+                  "move with the map at all?)",
+                  steps_, time_));
 }
 
 std::vector<std::int32_t> ReducedSim::choose_samples() {
@@ -368,7 +370,8 @@ mpm::ParticleView ReducedSim::lagrangian_quadrature(Index m) {
   lagrangian_points_ += q;
   const Span<float> dg_dxhat(dg_dxhat_.data(), 3 * Index(latent_) * q);
   const Vec3Planes<float> x = search_neighbours_ ? Vec3Planes<float>() : Vec3Planes<float>(quadrature_.x.data(), q);
-  evaluate_map(Vec3Planes<const float>(quadrature_.X.data(), q), {x, Mat3Planes<float>(quadrature_.F.data(), q), dg_dxhat});
+  evaluate_map(Vec3Planes<const float>(quadrature_.X.data(), q),
+               {x, Mat3Planes<float>(quadrature_.F.data(), q), dg_dxhat});
   rom::latent_to_point_velocity(exec_, latent_, dg_dxhat, vhat_device(), Vec3Planes<float>(quadrature_.v.data(), q));
   return quadrature_.view();
 }
@@ -407,15 +410,15 @@ mpm::ParticleView ReducedSim::eulerian_quadrature(Index m) {
   inversion.iterations = options_.inversion_iterations;
   inversion.tolerance = options_.inversion_tolerance * dx;
   const rom::EulerianPointsOut points{Vec3Planes<float>(quadrature_.X.data(), count),
-                                     Vec3Planes<float>(quadrature_.v.data(), count),
-                                     Mat3Planes<float>(quadrature_.F.data(), count),
-                                     quadrature_.mass.prefix(count),
-                                     quadrature_.volume0.prefix(count),
-                                     quadrature_.material.prefix(count),
-                                     quadrature_.status.prefix(count),
-                                     inversion_iterations_.prefix(count),
-                                     map_evaluations_.prefix(count),
-                                     jacobian_evaluations_.prefix(count)};
+                                      Vec3Planes<float>(quadrature_.v.data(), count),
+                                      Mat3Planes<float>(quadrature_.F.data(), count),
+                                      quadrature_.mass.prefix(count),
+                                      quadrature_.volume0.prefix(count),
+                                      quadrature_.material.prefix(count),
+                                      quadrature_.status.prefix(count),
+                                      inversion_iterations_.prefix(count),
+                                      map_evaluations_.prefix(count),
+                                      jacobian_evaluations_.prefix(count)};
   rom::eulerian_quadrature(exec_, map_view(), xhat_device(), vhat_device(), occupancy_, densities_.span(),
                            dx * dx * dx / float(l * l * l), inversion,
                            Vec3Planes<const float>(quadrature_.x.data(), count), Vec3Planes<const float>(guess),
@@ -448,9 +451,9 @@ void ReducedSim::substep(float dt) {
   // Alg. 3 / 4: the kinematics at x̂_n, v̂_n of the samples and of the quadrature points.
   mpm::ParticleView quadrature;
   timed([&] {
-    evaluate_map(Vec3Planes<const float>(samples_.X.data(), m),
-                 {Vec3Planes<float>(samples_.x.data(), m), Mat3Planes<float>(samples_.F.data(), m),
-                  sample_dg_dxhat_.span()});
+    evaluate_map(
+        Vec3Planes<const float>(samples_.X.data(), m),
+        {Vec3Planes<float>(samples_.x.data(), m), Mat3Planes<float>(samples_.F.data(), m), sample_dg_dxhat_.span()});
     rom::latent_to_point_velocity(exec_, r, sample_dg_dxhat_.span(), vhat_device(),
                                   Vec3Planes<float>(samples_.v.data(), m));
     quadrature = options_.quadrature == RomQuadrature::Lagrangian ? lagrangian_quadrature(m) : eulerian_quadrature(m);
@@ -488,9 +491,9 @@ void ReducedSim::substep(float dt) {
                           x[0], x[1], x[2], X[0], X[1], X[2]));
     }
     const std::int64_t point =
-        search_neighbours_ ? download(exec_.backend, quadrature_index_.prefix(quadrature_.count).subspan(slot, 1),
-                                      exec_.stream)[0]
-                           : slot;
+        search_neighbours_
+            ? download(exec_.backend, quadrature_index_.prefix(quadrature_.count).subspan(slot, 1), exec_.stream)[0]
+            : slot;
     return std::pair<std::int64_t, std::string>(point, fmt::format("material point {} (a quadrature point)", point));
   });
 
@@ -510,9 +513,8 @@ void ReducedSim::substep(float dt) {
                                                xhat_history_.span(),
                                                latent_device_.span(),
                                                projection_state_.span()};
-      rom::project_positions(exec_, map_view(),
-                             {options_.gauss_newton_iterations, options_.gauss_newton_tolerance}, has_previous_,
-                             projection);
+      rom::project_positions(exec_, map_view(), {options_.gauss_newton_iterations, options_.gauss_newton_tolerance},
+                             has_previous_, projection);
     }
     const std::vector<float> latent = latent_device_.to_host(exec_.stream);
     if (latent[2 * r] != rom::kLatentSolved) throw singular_projection();
@@ -551,11 +553,12 @@ void ReducedSim::check_inside_domain(const DeviceBuffer<float>& x, Index count, 
   const std::int64_t point = index.empty() ? slot : download(exec_.backend, index.subspan(slot, 1), exec_.stream)[0];
   const std::vector<float> positions = x.to_host(exec_.stream);
   throw NonFiniteError(
-      fmt::format("reduced simulation: material point {} decodes to ({:.4g}, {:.4g}, {:.4g}) m at step {} (t = {:.6g} "
-                  "s), outside the domain's interior [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] m: x̂ = [{}] "
-                  "has left the states the map describes (the reduced dynamics diverged)",
-                  point, positions[slot], positions[count + slot], positions[2 * count + slot], steps_, time_,
-                  low[0], high[0], low[1], high[1], low[2], high[2], fmt::join(xhat_, ", ")),
+      fmt::format(
+          "reduced simulation: material point {} decodes to ({:.4g}, {:.4g}, {:.4g}) m at step {} (t = {:.6g} "
+          "s), outside the domain's interior [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] m: x̂ = [{}] "
+          "has left the states the map describes (the reduced dynamics diverged)",
+          point, positions[slot], positions[count + slot], positions[2 * count + slot], steps_, time_, low[0], high[0],
+          low[1], high[1], low[2], high[2], fmt::join(xhat_, ", ")),
       steps_, mpm::Stage::P2G, point);
 }
 
@@ -576,7 +579,8 @@ rom::QuadratureTally ReducedSim::quadrature_tally() const {
 }
 
 bool ReducedSim::advance_to(double t, const std::function<bool()>& stop) {
-  return advance_clock(time_, t, [this] { return double(stable_dt()); }, [this](float dt) { substep(dt); }, stop);
+  return advance_clock(
+      time_, t, [this] { return double(stable_dt()); }, [this](float dt) { substep(dt); }, stop);
 }
 
 ReducedSim::DecodedState ReducedSim::decode(const std::vector<float>& X_host) {

@@ -112,9 +112,7 @@ class ReducedSim {
   // These read the device's running totals (a download each).
   std::int64_t quadrature_points_used() const { return quadrature_tally().points[rom::kQuadratureUsed]; }
   std::int64_t quadrature_points_outside() const { return quadrature_tally().points[rom::kQuadratureOutside]; }
-  std::int64_t quadrature_points_unconverged() const {
-    return quadrature_tally().points[rom::kQuadratureUnconverged];
-  }
+  std::int64_t quadrature_points_unconverged() const { return quadrature_tally().points[rom::kQuadratureUnconverged]; }
   // Iterations of g's inversion so far, summed over the Eulerian points.
   std::int64_t inversion_iterations() const { return quadrature_tally().iterations; }
   // Evaluations of g at the Eulerian points so far, and those of them that also gave both Jacobians.
@@ -176,7 +174,7 @@ class ReducedSim {
   // The material points in reference order (X, mass, volume, material, Dirichlet group, id).
   DeviceBuffer<float> X_, mass_, volume0_;
   DeviceBuffer<std::int32_t> material_, dirichlet_group_, id_;
-  std::vector<std::int32_t> free_points_;                  // not in a Dirichlet group
+  std::vector<std::int32_t> free_points_;                 // not in a Dirichlet group
   std::vector<std::vector<std::int32_t>> group_members_;  // per Dirichlet group
   // The quadrature points of a substep (Lagrangian: the samples and their neighbours, or every material
   // point, in reference order).
@@ -197,12 +195,12 @@ class ReducedSim {
   // Buffers refilled every substep are grown to the largest count so far and reused (an allocation on
   // CUDA synchronises the device); this step's elements are their prefix.
   DeviceBuffer<std::int32_t> used_index_;
-  DeviceBuffer<std::int32_t> inversion_iterations_;  // per Eulerian point, this substep
+  DeviceBuffer<std::int32_t> inversion_iterations_;                    // per Eulerian point, this substep
   DeviceBuffer<std::int32_t> map_evaluations_, jacobian_evaluations_;  // likewise
-  DeviceBuffer<rom::QuadratureTally> tally_;         // Eulerian: the running totals
-  IndexSelector select_indices_;                     // the used points' and the neighbours' indices
-  DeviceBuffer<float> guesses_, guess_jacobians_;    // Eulerian: each point's first X and ∂g/∂X there
-  rom::SampleNeighbourhood neighbourhood_;           // the nodes and Eulerian points around the samples
+  DeviceBuffer<rom::QuadratureTally> tally_;                           // Eulerian: the running totals
+  IndexSelector select_indices_;                                       // the used points' and the neighbours' indices
+  DeviceBuffer<float> guesses_, guess_jacobians_;  // Eulerian: each point's first X and ∂g/∂X there
+  rom::SampleNeighbourhood neighbourhood_;         // the nodes and Eulerian points around the samples
   // The reference state (X, mass, volume, material, Dirichlet group, id) of the material points `index`.
   void gather_reference(Span<const std::int32_t> index, Quadrature& points);
   DeviceBuffer<float> dg_dxhat_;  // Lagrangian: ∂g/∂x̂ at the quadrature points
@@ -235,7 +233,7 @@ class ReducedSim {
   double time_ = 0.0;
   std::int64_t steps_ = 0;
   std::int64_t lagrangian_points_ = 0;
-  std::vector<std::string> stages_;     // the stage table's names, in pipeline order
+  std::vector<std::string> stages_;       // the stage table's names, in pipeline order
   mutable EventTimeline stage_timeline_;  // read when the table is asked for
 };
 

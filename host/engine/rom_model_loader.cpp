@@ -13,9 +13,10 @@ LoadedReducedModel load_reduced_model(const std::string& path, const mpm::Partic
   const nn::rom::RomModel model = nn::rom::read_rom_model(path);
   const Index n = particles.count();
   if (model.training.particle_count != n)
-    throw Error(fmt::format("model {} was trained on snapshots of {} material points; this scene samples {}. Run "
-                            "the scene (and --set values) its training sweep ran",
-                            path, model.training.particle_count, n));
+    throw Error(
+        fmt::format("model {} was trained on snapshots of {} material points; this scene samples {}. Run "
+                    "the scene (and --set values) its training sweep ran",
+                    path, model.training.particle_count, n));
   // The initial positions as [1, P, 3] rows for the encoder.
   const torch::Tensor planes = torch::from_blob(const_cast<float*>(particles.x.data()), {3, n}, torch::kFloat32);
   const torch::Tensor x = planes.t().contiguous().unsqueeze(0);

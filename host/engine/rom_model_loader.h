@@ -12,8 +12,8 @@ namespace romp::engine {
 
 struct LoadedReducedModel {
   rom::DeformationMapWeights map;
-  std::vector<float> xhat;   // x̂ at t = 0
-  std::string description;   // latent size, architecture, training errors, for the run's log
+  std::vector<float> xhat;  // x̂ at t = 0
+  std::string description;  // latent size, architecture, training errors, for the run's log
 };
 
 // Reads `path` and encodes `particles` (the scene's initial state). The encoder reads material points

@@ -21,9 +21,8 @@ StepInputs::StepInputs(const Exec& exec, const FullOrderConfig& config) : exec_(
   ROMP_CHECK(!config.materials.empty(), "a simulation needs at least one material");
   const bool implicit = config.integrator == Integrator::Implicit;
   const float most_cfl = implicit ? kImplicitMaxCfl : 1.0f;
-  ROMP_CHECK(config.cfl > 0.0f && config.cfl <= most_cfl,
-             fmt::format("cfl must be in (0, {}] with the {} integrator", most_cfl,
-                         implicit ? "implicit" : "explicit"));
+  ROMP_CHECK(config.cfl > 0.0f && config.cfl <= most_cfl, fmt::format("cfl must be in (0, {}] with the {} integrator",
+                                                                      most_cfl, implicit ? "implicit" : "explicit"));
   ROMP_CHECK(config.flip_alpha >= 0.0f && config.flip_alpha <= 1.0f, "flip_alpha must be in [0, 1]");
 
   for (const MaterialSpec& m : config.materials) {
@@ -113,10 +112,10 @@ void StepInputs::check_stages(const std::string& who, std::int64_t step, double 
   for (int s = 0; s < mpm::kStageCount; ++s) {
     if (failures[s] == mpm::kNoFailure) continue;
     const auto stage = mpm::Stage(s);
-    const auto [index, what] = stage == mpm::Stage::GridUpdate
-                                   ? std::pair<std::int64_t, std::string>(failures[s],
-                                                                          fmt::format("grid node {}", failures[s]))
-                                   : describe(stage, failures[s]);
+    const auto [index, what] =
+        stage == mpm::Stage::GridUpdate
+            ? std::pair<std::int64_t, std::string>(failures[s], fmt::format("grid node {}", failures[s]))
+            : describe(stage, failures[s]);
     throw NonFiniteError(fmt::format("{}non-finite value at step {} (t = {:.6g} s), stage {}: {}", who, step, time,
                                      stage_name(stage), what),
                          step, stage, index);

@@ -86,7 +86,8 @@ std::vector<float> TracerSet::merged(const std::vector<float>& values, const std
   }
   const Index n = Index(on_grid_.size());
   for (Index i = 0; i < n; ++i)
-    for (int a = 0; a < 3; ++a) out[std::size_t(a * count_ + on_grid_[std::size_t(i)])] = values[std::size_t(a * n + i)];
+    for (int a = 0; a < 3; ++a)
+      out[std::size_t(a * count_ + on_grid_[std::size_t(i)])] = values[std::size_t(a * n + i)];
   return out;
 }
 

@@ -41,10 +41,10 @@ class TracerSet {
   std::vector<float> merged(const std::vector<float>& values, const std::vector<float>& corner_values) const;
 
   Index count_ = 0;
-  mpm::DomainInit layout_;            // the domains' corners in the reference configuration
+  mpm::DomainInit layout_;             // the domains' corners in the reference configuration
   geometry::EmbeddedPoints embedded_;  // domain -1: carried by the grid
-  std::vector<Index> on_grid_;        // the grid-carried points' indices in X
-  DeviceBuffer<float> x_, v_;         // the grid-carried points, 3 planes each
+  std::vector<Index> on_grid_;         // the grid-carried points' indices in X
+  DeviceBuffer<float> x_, v_;          // the grid-carried points, 3 planes each
 };
 
 }  // namespace romp::engine

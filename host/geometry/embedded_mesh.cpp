@@ -24,13 +24,14 @@ std::vector<Vec3<double>> EmbeddedPoints::interpolate(const mpm::DomainInit& dom
   for (std::size_t v = 0; v < domain.size(); ++v) {
     if (domain[v] < 0) continue;
     for (int alpha = 0; alpha < mpm::kDomainCorners; ++alpha)
-      values[v] += mpm::corner_shape_function(alpha, reference[v]) * domains.corner_position(corner_values, domain[v], alpha);
+      values[v] +=
+          mpm::corner_shape_function(alpha, reference[v]) * domains.corner_position(corner_values, domain[v], alpha);
   }
   return values;
 }
 
-EmbeddedPoints embed_points(const std::vector<Vec3<double>>& points, const mpm::DomainInit& domains,
-                            Index first_domain, double spacing) {
+EmbeddedPoints embed_points(const std::vector<Vec3<double>>& points, const mpm::DomainInit& domains, Index first_domain,
+                            double spacing) {
   // Corner 0 of a lattice domain is its cell's low corner.
   std::map<Cell, std::int32_t> domain_of_cell;
   for (Index d = first_domain; d < domains.count(); ++d) {

@@ -25,8 +25,8 @@ struct EmbeddedPoints {
 // Embeds `points` in the lattice-cell domains [first_domain, domains.count()) of `domains` (one body's,
 // from append_lattice_domains at `spacing`): each in the domain of the cell that contains it, or,
 // where that cell holds no particle, of the nearest one that does within two cells; -1 beyond.
-EmbeddedPoints embed_points(const std::vector<Vec3<double>>& points, const mpm::DomainInit& domains,
-                            Index first_domain, double spacing);
+EmbeddedPoints embed_points(const std::vector<Vec3<double>>& points, const mpm::DomainInit& domains, Index first_domain,
+                            double spacing);
 
 struct EmbeddedMesh {
   std::string name;  // the object's

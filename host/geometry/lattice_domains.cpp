@@ -8,8 +8,8 @@
 #include <cmath>
 #include <map>
 
-#include "kernels/core/error.h"
 #include "host/geometry/primitives.h"
+#include "kernels/core/error.h"
 #include "kernels/mpm/hex_domain.h"
 
 namespace romp::geometry {
@@ -42,7 +42,8 @@ void append_lattice_domains(mpm::ParticleInit& init, Index first, const SampledB
     for (int c = 0; c < mpm::kDomainCorners; ++c) {
       const std::array<std::int64_t, 3> vertex{cell[0] + (c >> 2), cell[1] + ((c >> 1) & 1), cell[2] + (c & 1)};
       for (int a = 0; a < 3; ++a) reference[c][a] = double(vertex[a]) * spacing;
-      const auto [found, inserted] = corner_of_vertex.emplace(vertex, std::int32_t(old_corners + Index(new_vertices.size())));
+      const auto [found, inserted] =
+          corner_of_vertex.emplace(vertex, std::int32_t(old_corners + Index(new_vertices.size())));
       if (inserted) new_vertices.push_back(vertex);
       domains.corner.push_back(found->second);
     }
@@ -82,7 +83,8 @@ void assign_corner_dirichlet_groups(mpm::ParticleInit& init) {
     const std::int32_t d = init.domain[p], group = init.dirichlet_group[p];
     if (d == mpm::kNoDomain || group == mpm::kNoDirichletGroup) continue;
     for (int c = 0; c < mpm::kDomainCorners; ++c) {
-      std::int32_t& corner_group = domains.corner_dirichlet_group[std::size_t(domains.corner[std::size_t(mpm::kDomainCorners * d + c)])];
+      std::int32_t& corner_group =
+          domains.corner_dirichlet_group[std::size_t(domains.corner[std::size_t(mpm::kDomainCorners * d + c)])];
       if (corner_group == mpm::kNoDirichletGroup || group < corner_group) corner_group = group;
     }
   }

@@ -50,17 +50,13 @@ bool is_integer(PlyType type) { return type != PlyType::Float32 && type != PlyTy
 int size_of(PlyType type) {
   switch (type) {
     case PlyType::Int8:
-    case PlyType::UInt8:
-      return 1;
+    case PlyType::UInt8: return 1;
     case PlyType::Int16:
-    case PlyType::UInt16:
-      return 2;
+    case PlyType::UInt16: return 2;
     case PlyType::Int32:
     case PlyType::UInt32:
-    case PlyType::Float32:
-      return 4;
-    case PlyType::Float64:
-      return 8;
+    case PlyType::Float32: return 4;
+    case PlyType::Float64: return 8;
   }
   return 0;
 }
@@ -121,18 +117,12 @@ class BodyCursor {
     for (int k = 0; k < size; ++k) word |= std::uint64_t(static_cast<unsigned char>(body_[at_ + k])) << (8 * k);
     at_ += std::size_t(size);
     switch (type) {
-      case PlyType::Int8:
-        return double(std::int8_t(word));
-      case PlyType::UInt8:
-        return double(std::uint8_t(word));
-      case PlyType::Int16:
-        return double(std::int16_t(word));
-      case PlyType::UInt16:
-        return double(std::uint16_t(word));
-      case PlyType::Int32:
-        return double(std::int32_t(word));
-      case PlyType::UInt32:
-        return double(std::uint32_t(word));
+      case PlyType::Int8: return double(std::int8_t(word));
+      case PlyType::UInt8: return double(std::uint8_t(word));
+      case PlyType::Int16: return double(std::int16_t(word));
+      case PlyType::UInt16: return double(std::uint16_t(word));
+      case PlyType::Int32: return double(std::int32_t(word));
+      case PlyType::UInt32: return double(std::uint32_t(word));
       case PlyType::Float32: {
         const std::uint32_t bits = std::uint32_t(word);
         float value;

@@ -52,7 +52,6 @@ void append_body(mpm::ParticleInit& init, const SampledBody& body, double densit
 
 // The particles of the axis-aligned box [low, high] alone, at rest, material 0: the common body of
 // tests and benchmarks.
-mpm::ParticleInit sample_box(const Vec3<float>& low, const Vec3<float>& high, const SamplingSpec& spec,
-                             double density);
+mpm::ParticleInit sample_box(const Vec3<float>& low, const Vec3<float>& high, const SamplingSpec& spec, double density);
 
 }  // namespace romp::geometry

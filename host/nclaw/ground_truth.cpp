@@ -13,13 +13,13 @@ namespace romp::nclaw {
 
 nn::diffmpm::DiffMpmConfig differentiable_config(const scene::Scene& s, const std::string& label) {
   const auto require = [&](bool condition, const std::string& what) {
-    if (!condition) throw Error(fmt::format("{}: its scene {}; the differentiable step cannot reproduce it", label, what));
+    if (!condition)
+      throw Error(fmt::format("{}: its scene {}; the differentiable step cannot reproduce it", label, what));
   };
   require(s.fixed_dt > 0.0, "has no fixed [time] dt");
   require(s.transfer == "apic", "uses transfer '" + s.transfer + "', not 'apic'");
   require(s.wall_friction == 0.0, "has wall friction " + std::to_string(s.wall_friction) + ", not 0");
-  require(s.colliders.empty() && s.dirichlet.empty() && s.pokes.empty(),
-          "has colliders, Dirichlet groups or pokes");
+  require(s.colliders.empty() && s.dirichlet.empty() && s.pokes.empty(), "has colliders, Dirichlet groups or pokes");
   nn::diffmpm::DiffMpmConfig config;
   static_cast<mpm::DomainConfig<double>&>(config) = s;
   return config;
@@ -43,7 +43,8 @@ torch::Tensor from_vector(const std::vector<float>& values) {
 // Every value of `frame` finite and every position inside the domain's interior, [dx, cells dx − dx] per
 // axis, where the differentiable step's stencil stays on its dense grid: a position outside (or NaN)
 // would index nodes the grid does not have.
-void check_frame(const io::FrameData& frame, int64_t k, const nn::diffmpm::DiffMpmConfig& config, const std::string& label) {
+void check_frame(const io::FrameData& frame, int64_t k, const nn::diffmpm::DiffMpmConfig& config,
+                 const std::string& label) {
   const std::size_t n = frame.x.size() / 3;
   for (const io::FieldMask field : {io::kFieldV, io::kFieldF, io::kFieldC}) {
     const std::vector<float>& values = frame.field(field);
@@ -57,9 +58,10 @@ void check_frame(const io::FrameData& frame, int64_t k, const nn::diffmpm::DiffM
     for (std::size_t p = 0; p < n; ++p) {
       const float x = frame.x[std::size_t(a) * n + p];
       if (!(x >= low && x <= high))
-        throw Error(fmt::format("{}: frame {}, particle {}: x[{}] = {} is outside the domain's interior [{:.6g}, {:.6g}] m "
-                                "(or not finite)",
-                                label, k, p, a, x, low, high));
+        throw Error(
+            fmt::format("{}: frame {}, particle {}: x[{}] = {} is outside the domain's interior [{:.6g}, {:.6g}] m "
+                        "(or not finite)",
+                        label, k, p, a, x, low, high));
     }
   }
 }
@@ -86,8 +88,9 @@ GroundTruth read_ground_truth(const std::string& path, int64_t last_frame) {
   data.reserve(size_t(frames));
   for (int64_t k = 0; k < frames; ++k) {
     if (reader.frame_step(k) != k)
-      throw Error(fmt::format("{}: frame {} is after substep {}; training needs one frame per substep (frame_rate = 1/dt)",
-                              label, k, reader.frame_step(k)));
+      throw Error(
+          fmt::format("{}: frame {} is after substep {}; training needs one frame per substep (frame_rate = 1/dt)",
+                      label, k, reader.frame_step(k)));
     data.push_back(reader.read_frame(k));
     check_frame(data.back(), k, truth.config, label);
   }

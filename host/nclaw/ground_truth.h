@@ -11,8 +11,8 @@
 namespace romp::nclaw {
 
 struct GroundTruth {
-  nn::diffmpm::DiffMpmConfig config;     // the snapshot's scene: grid, dt, gravity, walls
-  nn::nclaw::Trajectory trajectory;    // float32 on the CPU, frames 0 .. last
+  nn::diffmpm::DiffMpmConfig config;                    // the snapshot's scene: grid, dt, gravity, walls
+  nn::nclaw::Trajectory trajectory;                     // float32 on the CPU, frames 0 .. last
   std::vector<scene::MaterialSpecification> materials;  // the scene's, for the oracles that know them
 };
 

@@ -13,9 +13,9 @@ namespace romp::nclaw {
 namespace {
 
 const scene::MaterialSpecification& only_material(const GroundTruth& truth, const std::string& who) {
-  ROMP_CHECK(truth.materials.size() == 1,
-             fmt::format("{}: the ground truth's scene has {} materials; the oracles learn one", who,
-                         truth.materials.size()));
+  ROMP_CHECK(
+      truth.materials.size() == 1,
+      fmt::format("{}: the ground truth's scene has {} materials; the oracles learn one", who, truth.materials.size()));
   return truth.materials.front();
 }
 
@@ -33,7 +33,7 @@ torch::Tensor true_stress(const material::MaterialParams<float>& params, const t
 }  // namespace
 
 nn::nclaw::LawFile fit_labeled_oracle(const GroundTruth& truth, const std::string& trajectory_file,
-                               const nn::nclaw::SupervisedOptions& options, int64_t stride, uint64_t seed) {
+                                      const nn::nclaw::SupervisedOptions& options, int64_t stride, uint64_t seed) {
   const scene::MaterialSpecification& material = only_material(truth, "labeled oracle");
   ROMP_CHECK(material.model != material::MaterialModel::Neural,
              "labeled oracle: the ground truth's material is itself a learned law");

@@ -20,12 +20,12 @@ namespace romp::nclaw {
 // it should learn. The trajectory must come from a scene of one material. The record's loss is the
 // elastic fit's, and its reconstruction error is the free rollout's on the trajectory.
 nn::nclaw::LawFile fit_labeled_oracle(const GroundTruth& truth, const std::string& trajectory_file,
-                               const nn::nclaw::SupervisedOptions& options, int64_t stride, uint64_t seed);
+                                      const nn::nclaw::SupervisedOptions& options, int64_t stride, uint64_t seed);
 
 struct IdentifiedMaterial {
   double youngs_modulus = 0.0;  // Pa
   double poissons_ratio = 0.0;
-  std::vector<double> loss;     // per epoch
+  std::vector<double> loss;           // per epoch
   double reconstruction_error = 0.0;  // mean position MSE every 5 frames of a free rollout (m²)
 };
 

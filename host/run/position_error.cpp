@@ -52,12 +52,13 @@ PositionError compare_snapshots(const std::string& run, const std::string& refer
     throw Error(fmt::format("{}: {} material points against {}; compare runs of the same scene and sampling", pair,
                             a.particle_count(), b.particle_count()));
   if (a.header().X != b.header().X)
-    throw Error(fmt::format("{}: the material points' reference positions differ; compare runs of the same scene "
-                            "and sampling",
-                            pair));
+    throw Error(
+        fmt::format("{}: the material points' reference positions differ; compare runs of the same scene "
+                    "and sampling",
+                    pair));
   if (first_frames <= 0 && a.frame_count() != b.frame_count())
-    throw Error(fmt::format("{}: {} frames against {} (--first-frames N compares the first N)", pair,
-                            a.frame_count(), b.frame_count()));
+    throw Error(fmt::format("{}: {} frames against {} (--first-frames N compares the first N)", pair, a.frame_count(),
+                            b.frame_count()));
   if (first_frames > std::min(a.frame_count(), b.frame_count()))
     throw Error(fmt::format("{}: the first {} frames were asked for; the files hold {} and {}", pair, first_frames,
                             a.frame_count(), b.frame_count()));

@@ -14,11 +14,11 @@
 namespace romp::run {
 
 struct PositionError {
-  double percent = 0.0;                   // over all frames
-  std::vector<double> frame_percent;      // per frame
-  std::vector<double> frame_times;        // s
-  std::vector<double> frame_mse;          // per frame: mean over points and axes of (x_run − x_ref)², m²
-  double mean_mse = 0.0;                  // over every frame but the first (both start from the same state)
+  double percent = 0.0;               // over all frames
+  std::vector<double> frame_percent;  // per frame
+  std::vector<double> frame_times;    // s
+  std::vector<double> frame_mse;      // per frame: mean over points and axes of (x_run − x_ref)², m²
+  double mean_mse = 0.0;              // over every frame but the first (both start from the same state)
   std::int64_t particles = 0;
 };
 

@@ -10,8 +10,9 @@ namespace romp::run {
 void add_reduced_run_options(CLI::App& run, ReducedRunOptions& options) {
   CLI::Option* rom = run.add_option("--rom", options.model, "Run reduced-order with this model file (romp train-rom)")
                          ->check(CLI::ExistingFile);
-  run.add_option("--quadrature", options.quadrature,
-                 "Reduced-order quadrature: eulerian (cost follows the samples) or lagrangian (the samples' neighbours)")
+  run.add_option(
+         "--quadrature", options.quadrature,
+         "Reduced-order quadrature: eulerian (cost follows the samples) or lagrangian (the samples' neighbours)")
       ->check(CLI::IsMember({"eulerian", "lagrangian"}));
   run.add_option("--projection", options.projection,
                  "Reduced-order projection: velocity (Alg. 7) or position (position-velocity, Alg. 6)")
@@ -33,18 +34,22 @@ std::unique_ptr<Simulation> make_reduced_simulation(const ReducedRunOptions& opt
   // (Scenes with particle domains move their full-order particles through the domains' corners, a
   // discretisation the reduced step does not share whatever the transfer; scenes/README.md.)
   if (setup.config.transfer == mpm::Transfer::Apic && setup.particles.domains.empty())
-    spdlog::warn("the reduced step transfers by PIC (ROM paper, Alg. 5) and this scene's full-order runs by APIC: "
-                 "reduced runs will drift from them by the difference (3.3 % on the gravity cylinder); give the "
-                 "scene [solver] transfer = \"pic-flip\", flip_alpha = 0 for its sweep and its reduced runs");
+    spdlog::warn(
+        "the reduced step transfers by PIC (ROM paper, Alg. 5) and this scene's full-order runs by APIC: "
+        "reduced runs will drift from them by the difference (3.3 % on the gravity cylinder); give the "
+        "scene [solver] transfer = \"pic-flip\", flip_alpha = 0 for its sweep and its reduced runs");
   engine::ReducedOptions reduced;
-  reduced.quadrature = options.quadrature == "eulerian" ? engine::RomQuadrature::Eulerian : engine::RomQuadrature::Lagrangian;
-  reduced.projection = options.projection == "velocity" ? engine::RomProjection::Velocity : engine::RomProjection::PositionVelocity;
+  reduced.quadrature =
+      options.quadrature == "eulerian" ? engine::RomQuadrature::Eulerian : engine::RomQuadrature::Lagrangian;
+  reduced.projection =
+      options.projection == "velocity" ? engine::RomProjection::Velocity : engine::RomProjection::PositionVelocity;
   reduced.samples = options.samples;
   reduced.seed = options.seed;
   spdlog::info("reduced-order run: {} quadrature, {} projection, {} samples per substep", options.quadrature,
                options.projection, options.samples == 0 ? std::string("all") : std::to_string(options.samples));
   reduced.cfl = options.cfl;
-  if (options.cfl > 0.0) spdlog::info("reduced substeps at CFL number {} (the scene's: {})", options.cfl, setup.config.cfl);
+  if (options.cfl > 0.0)
+    spdlog::info("reduced substeps at CFL number {} (the scene's: {})", options.cfl, setup.config.cfl);
   return reduced_simulation(exec, setup.config, setup.particles, std::move(model.map), std::move(model.xhat), reduced);
 }
 

@@ -59,9 +59,10 @@ io::SnapshotHeader snapshot_header(const scene::Scene& scene, const mpm::Particl
         const float X = points.X[std::size_t(a) * n + p];
         const double size = double(scene.domain_cells[a]) * scene.dx;
         if (!(X >= 0.0f && double(X) <= size))
-          throw scene::SceneError(fmt::format("--output-points {}: point {} has X[{}] = {}, outside the domain [0, {:.6g}] m "
-                                              "(or not finite)",
-                                              output_points, p, a, X, size));
+          throw scene::SceneError(
+              fmt::format("--output-points {}: point {} has X[{}] = {}, outside the domain [0, {:.6g}] m "
+                          "(or not finite)",
+                          output_points, p, a, X, size));
       }
     header.X = points.X;
     header.mass = points.mass;
@@ -131,8 +132,8 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
     init.C = checkpoint.state.C;
     if (!init.domains.empty()) {
       if (checkpoint.corner_x.size() != 3 * std::size_t(init.domains.corner_count()))
-        throw Error(fmt::format("{}: holds {} domain corner positions, the scene's domains have {} corners", checkpoint_file,
-                                checkpoint.corner_x.size() / 3, init.domains.corner_count()));
+        throw Error(fmt::format("{}: holds {} domain corner positions, the scene's domains have {} corners",
+                                checkpoint_file, checkpoint.corner_x.size() / 3, init.domains.corner_count()));
       init.domains.resumed_corner_x = checkpoint.corner_x;
       init.domains.stiffening = checkpoint.domain_stiffening;
       init.domain = checkpoint.particle_domain;  // with the ones released since the start
@@ -140,8 +141,8 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
     first_frame = checkpoint.frame;
     restored_time = checkpoint.state.time;
     restored_steps = checkpoint.state.step;
-    writer = std::make_unique<io::SnapshotWriter>(
-        io::SnapshotWriter::resume(output, header, fields, first_frame + 1, ply));
+    writer =
+        std::make_unique<io::SnapshotWriter>(io::SnapshotWriter::resume(output, header, fields, first_frame + 1, ply));
     spdlog::info("resuming {} after frame {} (t = {} s)", output, first_frame, restored_time);
   } else {
     if (options.resume) spdlog::info("no unfinished run of {} to resume; starting at frame 0", output);
@@ -172,8 +173,8 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
         domains && (checkpoints || !setup.embedded_meshes.empty()) ? sim.domain_state() : DomainState{});
     if (!domain_state->corner_x.empty()) {
       for (const geometry::EmbeddedMesh& mesh : setup.embedded_meshes) {
-        auto vertices =
-            std::make_shared<const std::vector<Vec3<double>>>(mesh.deformed(setup.particles.domains, domain_state->corner_x));
+        auto vertices = std::make_shared<const std::vector<Vec3<double>>>(
+            mesh.deformed(setup.particles.domains, domain_state->corner_x));
         worker.submit([&output, &mesh, vertices, frame, &scene] {
           io::write_obj(io::mesh_frame_path(output, mesh.name, frame), *vertices, mesh.triangles,
                         fmt::format("{} frame {}: {} embedded in its particle domains", scene.name, frame, mesh.name));
@@ -184,9 +185,8 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
     worker.submit([&writer, state, frame, &checkpoint_file, &scene, checkpoints, domain_state] {
       writer->append_frame(*state);
       if (checkpoints)
-        io::write_checkpoint(checkpoint_file,
-                             io::Checkpoint{*state, frame, scene.resolved_text, domain_state->corner_x,
-                                            domain_state->particle_domain, domain_state->stiffening});
+        io::write_checkpoint(checkpoint_file, io::Checkpoint{*state, frame, scene.resolved_text, domain_state->corner_x,
+                                                             domain_state->particle_domain, domain_state->stiffening});
     });
     output_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
@@ -208,9 +208,9 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
     } catch (const engine::NonFiniteError& error) {
       if (options.progress) progress.finish();
       worker.drain();
-      throw engine::NonFiniteError(fmt::format("{}; frames 0..{} are in {}", error.what(), frame - 1,
-                                       io::partial_path(output)),
-                           error.step(), error.stage(), error.index());
+      throw engine::NonFiniteError(
+          fmt::format("{}; frames 0..{} are in {}", error.what(), frame - 1, io::partial_path(output)), error.step(),
+          error.stage(), error.index());
     }
     hand_off(frame);
     ++result.frames_written;

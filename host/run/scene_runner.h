@@ -1,5 +1,5 @@
-// run_scene: a run of a scene (full-order, or reduced-order with a model), frame by frame, with snapshots written off the critical
-// path, a checkpoint per frame for --resume, a progress bar, and a stage table.
+// run_scene: a run of a scene (full-order, or reduced-order with a model), frame by frame, with snapshots written off
+// the critical path, a checkpoint per frame for --resume, a progress bar, and a stage table.
 #pragma once
 
 #include <cstdint>
@@ -17,9 +17,9 @@
 namespace romp::run {
 
 struct RunOptions {
-  std::string output;            // snapshot path; empty: the scene's [output] file
-  bool resume = false;           // continue from the checkpoint of an unfinished run of the same scene
-  bool ply = false;              // PLY per frame even if the scene does not ask for it
+  std::string output;   // snapshot path; empty: the scene's [output] file
+  bool resume = false;  // continue from the checkpoint of an unfinished run of the same scene
+  bool ply = false;     // PLY per frame even if the scene does not ask for it
   bool progress = true;
   std::int64_t stop_at_frame = -1;  // >= 0: stop after this frame, leaving a resumable partial output
   // A snapshot whose material points (/particles) the frames are written at instead of the scene's:
@@ -35,12 +35,12 @@ struct RunResult {
   std::string output;              // the finished snapshot ("" when the run stopped early)
   std::string output_in_progress;  // the partial snapshot of a run that stopped early
   Index particles = 0;
-  std::int64_t first_frame = 0;    // the frame this process started from (> 0 when resumed)
-  std::int64_t last_frame = 0;     // the last frame written
-  std::int64_t frames_written = 0; // by this process
-  std::int64_t substeps = 0;       // by this process
+  std::int64_t first_frame = 0;     // the frame this process started from (> 0 when resumed)
+  std::int64_t last_frame = 0;      // the last frame written
+  std::int64_t frames_written = 0;  // by this process
+  std::int64_t substeps = 0;        // by this process
   double simulated_seconds = 0.0, wall_seconds = 0.0;
-  bool interrupted = false;        // stopped by a signal or stop_at_frame; resumable
+  bool interrupted = false;  // stopped by a signal or stop_at_frame; resumable
   std::vector<std::pair<std::string, double>> stage_seconds;
   std::vector<std::string> diagnostics;  // the simulation's solver-health lines
 };

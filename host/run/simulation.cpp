@@ -50,15 +50,17 @@ class FullOrderRun final : public Simulation {
     std::vector<std::string> lines;
     const engine::EnrichmentStatistics& enrichment = sim_.enrichment_statistics();
     if (enrichment.substeps > 0)
-      lines.push_back(fmt::format("enrichment: {:.1f}% of domain particles per substep on average, {:.1f}% at most (step {})",
-                                  100.0 * enrichment.share_sum / double(enrichment.substeps),
-                                  100.0 * enrichment.largest_share, enrichment.largest_share_step));
+      lines.push_back(
+          fmt::format("enrichment: {:.1f}% of domain particles per substep on average, {:.1f}% at most (step {})",
+                      100.0 * enrichment.share_sum / double(enrichment.substeps), 100.0 * enrichment.largest_share,
+                      enrichment.largest_share_step));
     const engine::ImplicitSolveTotals* totals = sim_.implicit_totals();
     if (totals != nullptr && totals->solves > 0)
-      lines.push_back(fmt::format("implicit solve: {} solves, {:.1f} CG iterations on average ({} at most), {} did not "
-                                  "converge and kept the explicit velocities",
-                                  totals->solves, double(totals->iterations) / double(totals->solves),
-                                  totals->most_iterations, totals->not_converged));
+      lines.push_back(
+          fmt::format("implicit solve: {} solves, {:.1f} CG iterations on average ({} at most), {} did not "
+                      "converge and kept the explicit velocities",
+                      totals->solves, double(totals->iterations) / double(totals->solves), totals->most_iterations,
+                      totals->not_converged));
     return lines;
   }
 
@@ -83,20 +85,22 @@ class ReducedRun final : public Simulation {
   bool resumable() const override { return false; }
   std::vector<std::string> diagnostics() const override {
     std::vector<std::string> lines;
-    lines.push_back(fmt::format("reduced-order: {} substeps, {} position projections stopped unconverged",
-                                sim_.steps(), sim_.unconverged_projections()));
+    lines.push_back(fmt::format("reduced-order: {} substeps, {} position projections stopped unconverged", sim_.steps(),
+                                sim_.unconverged_projections()));
     if (sim_.searches_neighbours() && sim_.steps() > 0)
-      lines.push_back(fmt::format("Lagrangian quadrature: the samples and their neighbours, {:.0f} of {} material "
-                                  "points per substep on average",
-                                  double(sim_.lagrangian_quadrature_points()) / double(sim_.steps()), X_.size() / 3));
+      lines.push_back(
+          fmt::format("Lagrangian quadrature: the samples and their neighbours, {:.0f} of {} material "
+                      "points per substep on average",
+                      double(sim_.lagrangian_quadrature_points()) / double(sim_.steps()), X_.size() / 3));
     const std::int64_t points =
         sim_.quadrature_points_used() + sim_.quadrature_points_outside() + sim_.quadrature_points_unconverged();
     if (points > 0)
-      lines.push_back(fmt::format("Eulerian quadrature: {} points, {} used, {} outside the body, {} whose inversion "
-                                  "of g did not converge; {} inversion iterations ({:.2f} per point used)",
-                                  points, sim_.quadrature_points_used(), sim_.quadrature_points_outside(),
-                                  sim_.quadrature_points_unconverged(), sim_.inversion_iterations(),
-                                  double(sim_.inversion_iterations()) / double(std::max<std::int64_t>(sim_.quadrature_points_used(), 1))));
+      lines.push_back(fmt::format(
+          "Eulerian quadrature: {} points, {} used, {} outside the body, {} whose inversion "
+          "of g did not converge; {} inversion iterations ({:.2f} per point used)",
+          points, sim_.quadrature_points_used(), sim_.quadrature_points_outside(), sim_.quadrature_points_unconverged(),
+          sim_.inversion_iterations(),
+          double(sim_.inversion_iterations()) / double(std::max<std::int64_t>(sim_.quadrature_points_used(), 1))));
     return lines;
   }
 
@@ -121,8 +125,7 @@ class ReducedRun final : public Simulation {
 }  // namespace
 
 std::unique_ptr<Simulation> full_order_simulation(const Exec& exec, const engine::FullOrderConfig& config,
-                                                  const mpm::ParticleInit& particles, double time,
-                                                  std::int64_t steps) {
+                                                  const mpm::ParticleInit& particles, double time, std::int64_t steps) {
   auto run = std::make_unique<FullOrderRun>(exec, config, particles);
   run->sim().restore_clock(time, steps);
   return run;

@@ -16,7 +16,8 @@ std::string stage_table(const std::vector<std::pair<std::string, double>>& stage
   }
   std::string table = fmt::format("{:<{}}{:>12}{:>9}\n", "stage", width, "seconds", "share");
   for (const auto& [stage, seconds] : stage_seconds)
-    table += fmt::format("{:<{}}{:>12.4f}{:>8.1f}%\n", stage, width, seconds, total > 0 ? 100.0 * seconds / total : 0.0);
+    table +=
+        fmt::format("{:<{}}{:>12.4f}{:>8.1f}%\n", stage, width, seconds, total > 0 ? 100.0 * seconds / total : 0.0);
   table += fmt::format("{:<{}}{:>12.4f}\n", "total", width, total);
   return table;
 }

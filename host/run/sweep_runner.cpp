@@ -52,7 +52,8 @@ bool claim(const fs::path& lock) {
       if (!written) throw Error(fmt::format("cannot write the claim {}", lock.string()));
       return true;
     }
-    if (errno != EEXIST) throw Error(fmt::format("cannot create the claim {}: {}", lock.string(), std::strerror(errno)));
+    if (errno != EEXIST)
+      throw Error(fmt::format("cannot create the claim {}: {}", lock.string(), std::strerror(errno)));
     std::ifstream in(lock);
     std::string host;
     long pid = 0;
@@ -145,8 +146,8 @@ SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& option
       throw scene::SceneError(fmt::format("sweep member {}: {}", member.index, error.what()));
     }
   }
-  if (rank.rank == 0) io::write_file_atomically((dir / "manifest.json").string(),
-                                                 manifest(base, scene_path, members).dump(2) + "\n");
+  if (rank.rank == 0)
+    io::write_file_atomically((dir / "manifest.json").string(), manifest(base, scene_path, members).dump(2) + "\n");
 
   SweepSummary summary;
   summary.members = std::int64_t(members.size());
@@ -158,9 +159,8 @@ SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& option
 
   // Progress over this rank's members: how many are done, how many run, and an ETA from this process's
   // throughput so far (members already finished before it started are not timed).
-  const std::int64_t rank_members = std::count_if(members.begin(), members.end(), [&](const scene::SweepMember& m) {
-    return m.index % rank.size == rank.rank;
-  });
+  const std::int64_t rank_members = std::count_if(
+      members.begin(), members.end(), [&](const scene::SweepMember& m) { return m.index % rank.size == rank.rank; });
   const auto started = std::chrono::steady_clock::now();
   std::map<pid_t, Child> running;
   auto progress = [&] {
@@ -168,9 +168,10 @@ SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& option
     const std::int64_t done = summary.finished_before + completed;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     const std::int64_t left = rank_members - done - summary.busy_elsewhere;
-    const std::string eta = completed == 0 ? std::string("ETA after the first member")
-                                           : fmt::format("ETA {:.0f} s", elapsed / double(completed) *
-                                                                             double(std::max<std::int64_t>(left, 0)));
+    const std::string eta =
+        completed == 0
+            ? std::string("ETA after the first member")
+            : fmt::format("ETA {:.0f} s", elapsed / double(completed) * double(std::max<std::int64_t>(left, 0)));
     return fmt::format("{}/{} done, {} running, {}", done, rank_members, running.size(), eta);
   };
 
@@ -191,8 +192,7 @@ SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& option
       ++summary.ran;
       spdlog::info("member {} finished ({})", child.index, progress());
     } else {
-      summary.failed.push_back(
-          fmt::format("member {}: exit code {}, log {}", child.index, code, child.log.string()));
+      summary.failed.push_back(fmt::format("member {}: exit code {}, log {}", child.index, code, child.log.string()));
       spdlog::warn("{} ({})", summary.failed.back(), progress());
     }
   };

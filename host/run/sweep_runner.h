@@ -12,10 +12,10 @@ namespace romp::run {
 
 struct SweepOptions {
   std::string output_dir;
-  int jobs = 1;                  // child processes at once on this machine
+  int jobs = 1;                            // child processes at once on this machine
   std::vector<std::string> run_arguments;  // global options passed to each child (device, threads, ...)
-  std::string executable;        // the romp binary for the children (default: this process's)
-  scene::LearnedLaws laws;       // materials every member runs with a learned law instead (scene::parse_scene)
+  std::string executable;                  // the romp binary for the children (default: this process's)
+  scene::LearnedLaws laws;  // materials every member runs with a learned law instead (scene::parse_scene)
   // Declared parameters set for every member (romp sweep --set), e.g. a coarser dx to shrink a paper's
   // sweep; a swept parameter cannot be set.
   scene::ParameterValues overrides;

@@ -37,9 +37,12 @@ class Parser {
   double sum() {
     double value = product();
     for (;;) {
-      if (accept('+')) value += product();
-      else if (accept('-')) value -= product();
-      else return value;
+      if (accept('+'))
+        value += product();
+      else if (accept('-'))
+        value -= product();
+      else
+        return value;
     }
   }
 
@@ -47,9 +50,12 @@ class Parser {
   double product() {
     double value = unary();
     for (;;) {
-      if (accept('*')) value *= unary();
-      else if (accept('/')) value /= unary();
-      else return value;
+      if (accept('*'))
+        value *= unary();
+      else if (accept('/'))
+        value /= unary();
+      else
+        return value;
     }
   }
 
@@ -120,13 +126,12 @@ class Parser {
     };
     using Unary = double (*)(double);
     static const std::pair<const char*, Unary> kUnary[] = {
-        {"sin", [](double a) { return std::sin(a); }},   {"cos", [](double a) { return std::cos(a); }},
-        {"tan", [](double a) { return std::tan(a); }},   {"asin", [](double a) { return std::asin(a); }},
-        {"acos", [](double a) { return std::acos(a); }}, {"atan", [](double a) { return std::atan(a); }},
-        {"sqrt", [](double a) { return std::sqrt(a); }}, {"exp", [](double a) { return std::exp(a); }},
-        {"log", [](double a) { return std::log(a); }},   {"abs", [](double a) { return std::fabs(a); }},
-        {"radians", [](double a) { return a * kPi / 180.0; }},
-        {"degrees", [](double a) { return a * 180.0 / kPi; }},
+        {"sin", [](double a) { return std::sin(a); }},         {"cos", [](double a) { return std::cos(a); }},
+        {"tan", [](double a) { return std::tan(a); }},         {"asin", [](double a) { return std::asin(a); }},
+        {"acos", [](double a) { return std::acos(a); }},       {"atan", [](double a) { return std::atan(a); }},
+        {"sqrt", [](double a) { return std::sqrt(a); }},       {"exp", [](double a) { return std::exp(a); }},
+        {"log", [](double a) { return std::log(a); }},         {"abs", [](double a) { return std::fabs(a); }},
+        {"radians", [](double a) { return a * kPi / 180.0; }}, {"degrees", [](double a) { return a * 180.0 / kPi; }},
     };
     for (const auto& [known, function] : kUnary) {
       if (name != known) continue;
@@ -171,7 +176,8 @@ class Parser {
    public:
     explicit Nesting(Parser& parser) : parser_(parser) {
       if (++parser_.depth_ > kMaxNesting)
-        parser_.fail(fmt::format("nested more than {} levels deep (parentheses, calls, signs and powers)", kMaxNesting));
+        parser_.fail(
+            fmt::format("nested more than {} levels deep (parentheses, calls, signs and powers)", kMaxNesting));
     }
     ~Nesting() { --parser_.depth_; }
     Nesting(const Nesting&) = delete;

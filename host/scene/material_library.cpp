@@ -58,7 +58,8 @@ scene::MaterialSpecification nclaw_preset(NclawMaterial which) {
 material::Lame<float> neural_law_at_rest(const std::string& law_file) {
   nn::nclaw::NeuralLaws laws = nn::nclaw::read_law_file(law_file).laws;
   laws.to(torch::kCPU, torch::kFloat64);
-  const nn::nclaw::RestStiffness at_rest = nn::nclaw::rest_stiffness([&](const torch::Tensor& F) { return laws.elastic->forward(F); });
+  const nn::nclaw::RestStiffness at_rest =
+      nn::nclaw::rest_stiffness([&](const torch::Tensor& F) { return laws.elastic->forward(F); });
   // The CFL condition needs a positive wave speed; a law that is unstable at rest cannot be run.
   ROMP_CHECK(std::isfinite(at_rest.p_wave_modulus()) && at_rest.p_wave_modulus() > 0.0,
              fmt::format("{}: the elastic law's P-wave modulus at rest (lambda + 2 mu) is {} Pa; a usable law "

@@ -24,15 +24,15 @@ enum class ShapeType { Box, Sphere, Cylinder, Capsule, Mesh };
 // A solid region: the body of an object, a Dirichlet region or a poke region.
 struct ShapeSpec {
   ShapeType type = ShapeType::Box;
-  Vec3<double> center = Vec3<double>::zero();  // box, sphere, cylinder, mesh (its bounding-box centre)
-  Vec3<double> size = Vec3<double>::zero();    // box: full extents along its local axes
+  Vec3<double> center = Vec3<double>::zero();        // box, sphere, cylinder, mesh (its bounding-box centre)
+  Vec3<double> size = Vec3<double>::zero();          // box: full extents along its local axes
   Mat3<double> rotation = Mat3<double>::identity();  // box, mesh: local-to-world
-  double radius = 0.0;                         // sphere, cylinder, capsule
-  double height = 0.0;                         // cylinder: full length along `axis`
-  Vec3<double> axis = Vec3<double>(0.0, 1.0, 0.0);  // cylinder (unit)
+  double radius = 0.0;                               // sphere, cylinder, capsule
+  double height = 0.0;                               // cylinder: full length along `axis`
+  Vec3<double> axis = Vec3<double>(0.0, 1.0, 0.0);   // cylinder (unit)
   Vec3<double> a = Vec3<double>::zero(), b = Vec3<double>::zero();  // capsule segment
-  std::string mesh_file;                       // mesh: absolute path (resolved against the scene's folder)
-  double mesh_extent = 0.0;                    // mesh: the largest side of its bounding box after scaling
+  std::string mesh_file;     // mesh: absolute path (resolved against the scene's folder)
+  double mesh_extent = 0.0;  // mesh: the largest side of its bounding box after scaling
 };
 
 enum class SamplingMethod { Lattice, JitteredLattice, PoissonDisk };
@@ -47,14 +47,14 @@ struct SamplingSpec {
 struct MaterialSpecification {
   std::string name;
   material::MaterialModel model = material::MaterialModel::FixedCorotated;
-  double density = 1000.0;         // kg/m^3
-  double youngs_modulus = 1e5;     // Pa
+  double density = 1000.0;      // kg/m^3
+  double youngs_modulus = 1e5;  // Pa
   double poissons_ratio = 0.3;
-  double yield_stress = 0.0;       // von Mises (Pa)
-  double friction_angle = 30.0;    // Drucker–Prager (degrees)
-  double cohesion = 0.0;           // Drucker–Prager
-  double min_stretch = 0.1;        // inversion handling: stress sees principal stretches >= this (0: off); not fluids
-  std::string neural_law;          // MaterialModel::Neural: the law file (absolute path), from `neural = "law.h5"`
+  double yield_stress = 0.0;     // von Mises (Pa)
+  double friction_angle = 30.0;  // Drucker–Prager (degrees)
+  double cohesion = 0.0;         // Drucker–Prager
+  double min_stretch = 0.1;      // inversion handling: stress sees principal stretches >= this (0: off); not fluids
+  std::string neural_law;        // MaterialModel::Neural: the law file (absolute path), from `neural = "law.h5"`
   // Where the scene names the law ("file:line:column: materials.NAME.neural"): the parser checks only that
   // it is a law file, so an error in the law itself, found where the run is set up, is located there.
   std::string neural_law_source;
@@ -90,7 +90,7 @@ struct DirichletGroupSpec {
   ShapeSpec region;
   Vec3<double> velocity = Vec3<double>::zero();
   Vec3<double> angular_velocity = Vec3<double>::zero();
-  Vec3<double> pivot = Vec3<double>::zero();  // a point on the rotation axis at t = 0
+  Vec3<double> pivot = Vec3<double>::zero();             // a point on the rotation axis at t = 0
   double end = std::numeric_limits<double>::infinity();  // s; the particles are released then
 };
 
@@ -109,7 +109,7 @@ struct DomainReleaseSpecification {
 };
 
 struct OutputSpec {
-  std::string file;                               // snapshot path (.h5)
+  std::string file;  // snapshot path (.h5)
   std::vector<std::string> fields{"x", "v", "F", "C"};
   bool ply = false;
 };

@@ -128,7 +128,8 @@ Vec3<double> shape_center(const ShapeSpec& shape) {
 // Whether `name` holds a control character (a byte below 0x20, or DEL): names reach terminals and logs,
 // where such a byte would act rather than show.
 bool has_control_character(const std::string& name) {
-  return std::any_of(name.begin(), name.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
+  return std::any_of(name.begin(), name.end(),
+                     [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
 }
 
 void read_scene_table(SceneReader& r, TableReader t, const std::string& file) {
@@ -201,8 +202,8 @@ void read_boundary(SceneReader& r, TableReader t) {
   const std::int32_t smallest = std::min({s.domain_cells[0], s.domain_cells[1], s.domain_cells[2]});
   // FullOrderSim needs interior cells between the walls: cells > 2 (wall_cells + 1).
   const double most = std::max(0.0, std::ceil(double(smallest) / 2.0) - 2.0);
-  s.wall_cells = std::int32_t(t.integer("wall_cells", std::min<std::int64_t>(3, std::int64_t(most)),
-                                        Range::closed(0.0, most)));
+  s.wall_cells =
+      std::int32_t(t.integer("wall_cells", std::min<std::int64_t>(3, std::int64_t(most)), Range::closed(0.0, most)));
   s.wall_contact = read_contact(t, "separate");
   if (s.wall_contact != mpm::ContactType::Sticky) s.wall_friction = t.number("friction", 0.0, Range::non_negative());
   t.finish();
@@ -256,7 +257,8 @@ MaterialSpecification read_material(TableReader t, const std::string& name, cons
   if (t.has("strength_off")) {
     if (m.model != MaterialModel::FixedCorotated && m.model != MaterialModel::NeoHookean &&
         m.model != MaterialModel::HenckyStVK)
-      t.fail("strength_off", "only the hyperelastic models (fixed-corotated, neo-hookean, hencky-stvk) can lose their strength");
+      t.fail("strength_off",
+             "only the hyperelastic models (fixed-corotated, neo-hookean, hencky-stvk) can lose their strength");
     const std::vector<double> window = t.numbers("strength_off", {}, Range::non_negative(), 2, 2);
     if (!(window[1] > window[0]))
       t.fail("strength_off", fmt::format("[from, until] must have until > from, got [{}, {}]", window[0], window[1]));
@@ -277,8 +279,8 @@ std::int32_t material_index(SceneReader& r, TableReader& t) {
   const auto& materials = r.scene.materials;
   std::vector<std::string> names;
   for (const MaterialSpecification& m : materials) names.push_back(m.name);
-  const std::string name = materials.size() == 1 ? t.choice("material", names[0], names)
-                                                 : t.required_choice("material", names);
+  const std::string name =
+      materials.size() == 1 ? t.choice("material", names[0], names) : t.required_choice("material", names);
   return std::int32_t(std::find(names.begin(), names.end(), name) - names.begin());
 }
 
@@ -289,8 +291,10 @@ SamplingSpec read_sampling(TableReader t) {
                     : method == "jittered" ? SamplingMethod::JitteredLattice
                                            : SamplingMethod::PoissonDisk;
   sampling.per_cell = std::int32_t(t.integer("per_cell", 2, Range::closed(1, 16)));
-  if (sampling.method == SamplingMethod::JitteredLattice) sampling.jitter = t.number("jitter", 1.0, Range::closed(0, 1));
-  if (sampling.method != SamplingMethod::Lattice) sampling.seed = std::uint64_t(t.integer("seed", 0, Range::closed(0, 9e15)));
+  if (sampling.method == SamplingMethod::JitteredLattice)
+    sampling.jitter = t.number("jitter", 1.0, Range::closed(0, 1));
+  if (sampling.method != SamplingMethod::Lattice)
+    sampling.seed = std::uint64_t(t.integer("seed", 0, Range::closed(0, 9e15)));
   t.finish();
   return sampling;
 }
@@ -377,8 +381,8 @@ ShapeSpec read_region(SceneReader& r, TableReader& t, const std::string& what) {
 
 void read_domain_releases(SceneReader& r, TableReader& root) {
   for (TableReader& t : root.tables("domain_release")) {
-    const bool any_domains = std::any_of(r.scene.objects.begin(), r.scene.objects.end(),
-                                         [](const ObjectSpec& o) { return o.domains; });
+    const bool any_domains =
+        std::any_of(r.scene.objects.begin(), r.scene.objects.end(), [](const ObjectSpec& o) { return o.domains; });
     if (!any_domains) t.fail("", "releases particle domains, but no object has domains = true");
     DomainReleaseSpecification release;
     release.region = read_region(r, t, "domain release");
@@ -500,9 +504,10 @@ Scene load_scene(const std::string& path, const ParameterValues& overrides, cons
     throw SceneError(fmt::format("{}: not a regular file (a scene is a TOML file)", path));
   const std::uintmax_t bytes = fs::file_size(path, error);
   if (!error && bytes > kMaxSceneBytes)
-    throw SceneError(fmt::format("{}: {} bytes; a scene file may hold at most {} (meshes and models are files of "
-                                 "their own)",
-                                 path, bytes, kMaxSceneBytes));
+    throw SceneError(
+        fmt::format("{}: {} bytes; a scene file may hold at most {} (meshes and models are files of "
+                    "their own)",
+                    path, bytes, kMaxSceneBytes));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(fmt::format("{}: cannot open the scene file", path));
   std::ostringstream text;

@@ -56,7 +56,8 @@ engine::FullOrderConfig engine_config(const Scene& scene) {
     c.colliders.push_back(engine::ColliderSpec{state, s.end});
   }
   for (const DirichletGroupSpec& g : scene.dirichlet)
-    c.dirichlet.push_back(engine::DirichletSpec{to_float(g.pivot), to_float(g.velocity), to_float(g.angular_velocity), g.end});
+    c.dirichlet.push_back(
+        engine::DirichletSpec{to_float(g.pivot), to_float(g.velocity), to_float(g.angular_velocity), g.end});
   for (const PokeSpec& p : scene.pokes) {
     mpm::RegionLoad load;
     static_cast<mpm::Region&>(load) = to_region(p.region);
@@ -102,7 +103,8 @@ geometry::Shape make_shape(const ShapeSpec& s) {
     case ShapeType::Cylinder: return geometry::Cylinder{s.center, s.axis, s.radius, 0.5 * s.height};
     case ShapeType::Capsule: return geometry::Capsule{s.a, s.b, s.radius};
     case ShapeType::Mesh:
-      return geometry::MeshSolid(geometry::fit_to(geometry::load_mesh(s.mesh_file), s.mesh_extent, s.center, s.rotation));
+      return geometry::MeshSolid(
+          geometry::fit_to(geometry::load_mesh(s.mesh_file), s.mesh_extent, s.center, s.rotation));
   }
   throw Error("unknown shape type");
 }

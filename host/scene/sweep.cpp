@@ -23,7 +23,7 @@ void shuffle(std::vector<T>& items, geometry::Random& random) {
 SweepSpec read_sweep(TableReader& table, const ParameterValues& declared) {
   SweepSpec sweep;
   const std::string method = table.choice("method", "grid", {"grid", "random", "latin-hypercube"});
-  sweep.method = method == "grid" ? SweepMethod::Grid
+  sweep.method = method == "grid"     ? SweepMethod::Grid
                  : method == "random" ? SweepMethod::Random
                                       : SweepMethod::LatinHypercube;
   sweep.samples = table.integer("samples", sweep.method == SweepMethod::Grid ? 0 : 16,

@@ -15,7 +15,7 @@ enum class SweepMethod { Grid, Random, LatinHypercube };
 
 struct SweepAxis {
   std::string parameter;
-  std::vector<double> values;  // grid: the values taken
+  std::vector<double> values;    // grid: the values taken
   double low = 0.0, high = 0.0;  // random, Latin hypercube: the interval sampled
 };
 
@@ -23,7 +23,7 @@ struct SweepSpec {
   SweepMethod method = SweepMethod::Grid;
   std::int64_t samples = 0;  // random, Latin hypercube: the number of members
   std::uint64_t seed = 0;
-  double test_fraction = 0.0;  // held out at random
+  double test_fraction = 0.0;    // held out at random
   std::int64_t train_every = 0;  // > 0: the members whose index is a multiple train, the rest test
   std::vector<SweepAxis> axes;
 };

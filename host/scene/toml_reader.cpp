@@ -123,8 +123,8 @@ std::vector<double> TableReader::numbers(const std::string& key, const std::vect
   std::vector<double> values = fallback;
   if (node) {
     const toml::array* array = node->as_array();
-    const std::string expected = min_count == max_count ? fmt::format("{}", min_count)
-                                                        : fmt::format("{} to {}", min_count, max_count);
+    const std::string expected =
+        min_count == max_count ? fmt::format("{}", min_count) : fmt::format("{} to {}", min_count, max_count);
     if (!array || array->size() < min_count || array->size() > max_count)
       fail(key, fmt::format("expected an array of {} numbers", expected));
     values.clear();
@@ -265,7 +265,7 @@ void TableReader::finish() const {
     std::string list;
     for (const std::string& a : read_) list += (list.empty() ? "" : ", ") + a;
     throw SceneError(fmt::format("{}: {}: unknown key '{}'; allowed here: {}", where(key.source()), dotted(""), name,
-                            list.empty() ? "none" : list));
+                                 list.empty() ? "none" : list));
   }
 }
 
@@ -274,7 +274,7 @@ toml::table parse_toml(const std::string& text, const std::string& file) {
     return toml::parse(text, file);
   } catch (const toml::parse_error& error) {
     throw SceneError(fmt::format("{}:{}:{}: TOML syntax error: {}", file, error.source().begin.line,
-                            error.source().begin.column, error.description()));
+                                 error.source().begin.column, error.description()));
   }
 }
 

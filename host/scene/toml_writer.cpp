@@ -71,8 +71,8 @@ std::vector<std::string> ordered_keys(const toml::table& table, const std::vecto
 void write_table(std::string& out, const toml::table& table, const std::string& path,
                  const std::vector<std::string>& order) {
   // Within a table, its identity comes first: the type or name that decides which keys apply.
-  const std::vector<std::string> keys = ordered_keys(table, order.empty() ? std::vector<std::string>{"type", "name"}
-                                                                          : order);
+  const std::vector<std::string> keys =
+      ordered_keys(table, order.empty() ? std::vector<std::string>{"type", "name"} : order);
   for (const std::string& key : keys)
     if (is_simple(*table.get(key))) out += fmt::format("{} = {}\n", key_text(key), value_text(*table.get(key)));
   for (const std::string& key : keys) {

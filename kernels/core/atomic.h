@@ -21,35 +21,46 @@ namespace romp {
 namespace detail {
 
 template <class T>
-inline constexpr bool kAtomicType =
-    std::is_same_v<T, float> || std::is_same_v<T, double> ||
-    (std::is_integral_v<T> && (sizeof(T) == 4 || sizeof(T) == 8) && !std::is_same_v<T, bool>);
+inline constexpr bool kAtomicType = std::is_same_v<T, float> || std::is_same_v<T, double> ||
+                                    (std::is_integral_v<T> && (sizeof(T) == 4 || sizeof(T) == 8) &&
+                                     !std::is_same_v<T, bool>);
 
 struct AtomicAddOp {
   template <class T>
-  ROMP_HD_INLINE static T apply(T a, T b) { return a + b; }
+  ROMP_HD_INLINE static T apply(T a, T b) {
+    return a + b;
+  }
   template <class T>
-  ROMP_HD_INLINE static bool changes(T, T) { return true; }
+  ROMP_HD_INLINE static bool changes(T, T) {
+    return true;
+  }
 };
 struct AtomicMinOp {
   template <class T>
-  ROMP_HD_INLINE static T apply(T, T b) { return b; }
+  ROMP_HD_INLINE static T apply(T, T b) {
+    return b;
+  }
   template <class T>
-  ROMP_HD_INLINE static bool changes(T old, T value) { return value < old; }
+  ROMP_HD_INLINE static bool changes(T old, T value) {
+    return value < old;
+  }
 };
 struct AtomicMaxOp {
   template <class T>
-  ROMP_HD_INLINE static T apply(T, T b) { return b; }
+  ROMP_HD_INLINE static T apply(T, T b) {
+    return b;
+  }
   template <class T>
-  ROMP_HD_INLINE static bool changes(T old, T value) { return old < value; }
+  ROMP_HD_INLINE static bool changes(T old, T value) {
+    return old < value;
+  }
 };
 
 #if defined(__CUDA_ARCH__)
 // The CUDA integer type of the same width and signedness, for the native intrinsics.
 template <class T>
-using CudaInt = std::conditional_t<
-    sizeof(T) == 4, std::conditional_t<std::is_signed_v<T>, int, unsigned int>,
-    std::conditional_t<std::is_signed_v<T>, long long, unsigned long long>>;
+using CudaInt = std::conditional_t<sizeof(T) == 4, std::conditional_t<std::is_signed_v<T>, int, unsigned int>,
+                                   std::conditional_t<std::is_signed_v<T>, long long, unsigned long long>>;
 // Bit patterns of floating-point values, for compare-and-swap on the word that holds them.
 __device__ __forceinline__ unsigned int to_word(float x) { return __float_as_uint(x); }
 __device__ __forceinline__ unsigned long long to_word(double x) { return __double_as_longlong(x); }
@@ -77,8 +88,7 @@ inline T host_cas_loop(T* address, T value) {
   __atomic_load(address, &old, __ATOMIC_RELAXED);
   while (Op::changes(old, value)) {
     T desired = Op::apply(old, value);
-    if (__atomic_compare_exchange(address, &old, &desired, /*weak=*/true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
-      break;
+    if (__atomic_compare_exchange(address, &old, &desired, /*weak=*/true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) break;
   }
   return old;
 }

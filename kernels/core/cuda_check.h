@@ -14,16 +14,16 @@ void report_cuda_error(cudaError_t status, const char* file, int line, const cha
 
 }  // namespace romp::detail
 
-#define ROMP_CUDA_CHECK(expression)                                                            \
-  do {                                                                                         \
-    const cudaError_t romp_cuda_status_ = (expression);                                        \
-    if (romp_cuda_status_ != cudaSuccess)                                                      \
-      ::romp::detail::throw_cuda_error(romp_cuda_status_, __FILE__, __LINE__, #expression);     \
+#define ROMP_CUDA_CHECK(expression)                                                         \
+  do {                                                                                      \
+    const cudaError_t romp_cuda_status_ = (expression);                                     \
+    if (romp_cuda_status_ != cudaSuccess)                                                   \
+      ::romp::detail::throw_cuda_error(romp_cuda_status_, __FILE__, __LINE__, #expression); \
   } while (false)
 
-#define ROMP_CUDA_CHECK_NOTHROW(expression)                                                    \
-  do {                                                                                         \
-    const cudaError_t romp_cuda_status_ = (expression);                                        \
-    if (romp_cuda_status_ != cudaSuccess)                                                      \
-      ::romp::detail::report_cuda_error(romp_cuda_status_, __FILE__, __LINE__, #expression);    \
+#define ROMP_CUDA_CHECK_NOTHROW(expression)                                                  \
+  do {                                                                                       \
+    const cudaError_t romp_cuda_status_ = (expression);                                      \
+    if (romp_cuda_status_ != cudaSuccess)                                                    \
+      ::romp::detail::report_cuda_error(romp_cuda_status_, __FILE__, __LINE__, #expression); \
   } while (false)

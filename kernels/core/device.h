@@ -17,11 +17,11 @@ struct CudaDevice {
 };
 
 struct CudaProbe {
-  bool compiled = false;      // the CUDA backend is part of this build
-  int driver_version = 0;     // e.g. 13000 for 13.0; 0 when no driver answers
-  int runtime_version = 0;    // the CUDA runtime romp was linked against
+  bool compiled = false;    // the CUDA backend is part of this build
+  int driver_version = 0;   // e.g. 13000 for 13.0; 0 when no driver answers
+  int runtime_version = 0;  // the CUDA runtime romp was linked against
   std::vector<CudaDevice> devices;
-  std::string status;         // why there are no devices, in the runtime's words, or "ok"
+  std::string status;  // why there are no devices, in the runtime's words, or "ok"
 };
 
 // Asks the CUDA runtime once per call; never throws (a machine without a driver is a normal answer).

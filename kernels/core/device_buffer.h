@@ -16,8 +16,8 @@ namespace romp {
 // memory::traffic().
 template <class T>
 void upload(Backend backend, Span<T> device, Span<const T> host, Stream stream = nullptr) {
-  ROMP_CHECK(host.size() == device.size(), "upload: " + std::to_string(host.size()) + " host elements into " +
-                                               std::to_string(device.size()));
+  ROMP_CHECK(host.size() == device.size(),
+             "upload: " + std::to_string(host.size()) + " host elements into " + std::to_string(device.size()));
   memory::upload(device.data(), backend, host.data(), std::size_t(host.size()) * sizeof(T), stream);
 }
 template <class T>
@@ -113,8 +113,8 @@ class DeviceBuffer {
 
  private:
   Index checked_prefix(Index count) const {
-    ROMP_CHECK(count >= 0 && count <= size_, "prefix of " + std::to_string(count) + " elements in a buffer of " +
-                                                 std::to_string(size_));
+    ROMP_CHECK(count >= 0 && count <= size_,
+               "prefix of " + std::to_string(count) + " elements in a buffer of " + std::to_string(size_));
     return count;
   }
   static Index checked_size(Index size) {

@@ -26,7 +26,7 @@ class Error : public std::runtime_error {
 
 // ROMP_CHECK(condition, message): throws romp::Error naming the place, the condition and why it
 // matters. `message` is any expression convertible to std::string, evaluated only on failure.
-#define ROMP_CHECK(condition, message)                                                        \
-  do {                                                                                        \
+#define ROMP_CHECK(condition, message)                                                           \
+  do {                                                                                           \
     if (!(condition)) throw ::romp::Error(std::string(message), __FILE__, __LINE__, #condition); \
   } while (false)

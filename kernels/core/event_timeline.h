@@ -39,7 +39,7 @@ class EventTimeline {
 
  private:
   struct Mark {
-    std::ptrdiff_t interval;  // the interval it closes, or kOpens
+    std::ptrdiff_t interval;                     // the interval it closes, or kOpens
     std::chrono::steady_clock::time_point time;  // CPU
   };
   static constexpr std::ptrdiff_t kOpens = -1;

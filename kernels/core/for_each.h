@@ -82,8 +82,9 @@ void for_each(const Exec& exec, Index n, const F& functor) {
     detail::for_each_cuda<kBlockSize>(exec, n, functor);
     return;
 #else
-    throw Error("for_each on the CUDA backend from a translation unit not compiled by nvcc; "
-                "launch it from a .cu file listed with romp_single_source()");
+    throw Error(
+        "for_each on the CUDA backend from a translation unit not compiled by nvcc; "
+        "launch it from a .cu file listed with romp_single_source()");
 #endif
   }
   detail::for_each_cpu(exec, n, functor);

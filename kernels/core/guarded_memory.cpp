@@ -26,10 +26,10 @@ struct Arena {
   std::mutex mutex;
   char* base = nullptr;
   std::size_t page = 4096;
-  std::size_t high_water = 0;             // bytes handed out from base, the extent open() changes
-  int open_count = 0;                     // live DeviceAccess objects
-  std::map<char*, std::size_t> blocks;    // live blocks and their sizes in bytes (page multiples)
-  std::multimap<std::size_t, char*> idle; // released blocks by size, reused best fit
+  std::size_t high_water = 0;              // bytes handed out from base, the extent open() changes
+  int open_count = 0;                      // live DeviceAccess objects
+  std::map<char*, std::size_t> blocks;     // live blocks and their sizes in bytes (page multiples)
+  std::multimap<std::size_t, char*> idle;  // released blocks by size, reused best fit
 
   void protect(char* begin, std::size_t bytes, bool open) const {
     if (bytes == 0) return;
@@ -132,7 +132,7 @@ bool release(void* pointer) noexcept {
   if (a.base == nullptr || block < a.base || block >= a.base + kArenaBytes) return false;
   const std::lock_guard<std::mutex> lock(a.mutex);
   const auto found = a.blocks.find(block);
-  if (found == a.blocks.end()) return true;  // not a block start: nothing to free, as free() would crash
+  if (found == a.blocks.end()) return true;      // not a block start: nothing to free, as free() would crash
   madvise(block, found->second, MADV_DONTNEED);  // give the memory back; the address range stays reserved
   a.idle.emplace(found->second, block);
   a.blocks.erase(found);

@@ -39,8 +39,8 @@ Index IndexSelector::operator()(const Exec& exec, Span<const std::int32_t> flags
     count_.ensure_size(exec.backend, 1);
     const thrust::counting_iterator<std::int32_t> indices(0);
     std::size_t bytes = 0;
-    ROMP_CUDA_CHECK(cub::DeviceSelect::If(nullptr, bytes, indices, selected.data(), count_.data(), n, equals,
-                                          exec.stream));
+    ROMP_CUDA_CHECK(
+        cub::DeviceSelect::If(nullptr, bytes, indices, selected.data(), count_.data(), n, equals, exec.stream));
     temporary_.ensure_size(exec.backend, Index(bytes));
     ROMP_CUDA_CHECK(cub::DeviceSelect::If(temporary_.data(), bytes, indices, selected.data(), count_.data(), n, equals,
                                           exec.stream));

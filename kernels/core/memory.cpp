@@ -65,8 +65,8 @@ void release(Backend backend, void* pointer) noexcept {
 #endif
 }
 
-void copy(void* destination, Backend destination_backend, const void* source, Backend source_backend,
-          std::size_t bytes, Stream stream) {
+void copy(void* destination, Backend destination_backend, const void* source, Backend source_backend, std::size_t bytes,
+          Stream stream) {
   if (bytes == 0) return;
   if (destination_backend == Backend::Cpu && source_backend == Backend::Cpu) {
     const DeviceAccess transfer;

@@ -17,8 +17,8 @@ void release(Backend backend, void* pointer) noexcept;
 
 // Copies `bytes` between any two backends. The copy is ordered after earlier work on `stream`
 // and complete when the call returns, so host memory may be reused at once.
-void copy(void* destination, Backend destination_backend, const void* source, Backend source_backend,
-          std::size_t bytes, Stream stream = nullptr);
+void copy(void* destination, Backend destination_backend, const void* source, Backend source_backend, std::size_t bytes,
+          Stream stream = nullptr);
 
 // copy() from host memory to `backend` memory (upload) or back (download), counted in traffic().
 void upload(void* destination, Backend backend, const void* host, std::size_t bytes, Stream stream = nullptr);

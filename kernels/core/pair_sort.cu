@@ -16,8 +16,9 @@
 
 namespace romp {
 
-std::pair<Span<const std::uint64_t>, Span<const std::int32_t>> PairSorter::operator()(
-    const Exec& exec, Span<const std::uint64_t> keys, Span<const std::int32_t> values) {
+std::pair<Span<const std::uint64_t>, Span<const std::int32_t>> PairSorter::operator()(const Exec& exec,
+                                                                                      Span<const std::uint64_t> keys,
+                                                                                      Span<const std::int32_t> values) {
   const Index n = keys.size();
   ROMP_CHECK(values.size() == n, "PairSorter: one value per key");
   keys_.ensure_size(exec.backend, n);

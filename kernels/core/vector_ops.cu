@@ -34,8 +34,8 @@ struct DotLanes {
 };
 
 void check_sizes(Index a, Index b, const char* operation) {
-  ROMP_CHECK(a == b, std::string(operation) + ": spans of " + std::to_string(a) + " and " + std::to_string(b) +
-                         " elements");
+  ROMP_CHECK(a == b,
+             std::string(operation) + ": spans of " + std::to_string(a) + " and " + std::to_string(b) + " elements");
 }
 
 }  // namespace

@@ -21,13 +21,13 @@ inline Index dense_grid_nodes(const int cells[3]) {
 
 template <class T>
 struct DenseGridView {
-  int nodes[3];                  // cells + 1 per axis
-  Index count;                   // nodes[0] nodes[1] nodes[2]
-  Span<T> mass;                  // m_i (P2G)
-  Vec3Planes<T> momentum;        // q_i = m_i v_i before the grid update (P2G)
-  Vec3Planes<T> velocity;        // v_i after gravity and walls (grid update)
+  int nodes[3];                    // cells + 1 per axis
+  Index count;                     // nodes[0] nodes[1] nodes[2]
+  Span<T> mass;                    // m_i (P2G)
+  Vec3Planes<T> momentum;          // q_i = m_i v_i before the grid update (P2G)
+  Vec3Planes<T> velocity;          // v_i after gravity and walls (grid update)
   Vec3Planes<T> velocity_adjoint;  // ∂L/∂v_i (G2P adjoint), overwritten by ∂L/∂q_i (grid adjoint)
-  Span<T> mass_adjoint;          // ∂L/∂m_i (grid adjoint)
+  Span<T> mass_adjoint;            // ∂L/∂m_i (grid adjoint)
 
   // The planes of `scratch` (kDenseGridPlanes × dense_grid_nodes(cells) scalars), laid out in the order above.
   DenseGridView(const int cells[3], Span<T> scratch) {

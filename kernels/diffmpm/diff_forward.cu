@@ -90,9 +90,10 @@ void step_forward(const Exec& exec, const StepParams<T>& params, const ParticleI
   for_each(exec, in.count, GridToParticle<T>{params, in, DenseGridView<T>(params.domain.cells, scratch), out});
 }
 
-#define ROMP_DIFFMPM_FORWARD(T)                                                                                      \
-  template void grid_forward<T>(const Exec&, const StepParams<T>&, const ParticleInputs<T>&, Span<T>);               \
-  template void step_forward<T>(const Exec&, const StepParams<T>&, const ParticleInputs<T>&, Span<T>, const StateView<T>&);
+#define ROMP_DIFFMPM_FORWARD(T)                                                                        \
+  template void grid_forward<T>(const Exec&, const StepParams<T>&, const ParticleInputs<T>&, Span<T>); \
+  template void step_forward<T>(const Exec&, const StepParams<T>&, const ParticleInputs<T>&, Span<T>,  \
+                                const StateView<T>&);
 ROMP_DIFFMPM_FORWARD(float)
 ROMP_DIFFMPM_FORWARD(double)
 #undef ROMP_DIFFMPM_FORWARD

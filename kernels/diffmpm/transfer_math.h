@@ -1,9 +1,9 @@
 // Per-particle and per-node math shared by the differentiable step's forward and adjoint kernels.
 #pragma once
 
-#include "kernels/math/atomic_planes.h"
 #include "kernels/diffmpm/dense_grid.h"
 #include "kernels/diffmpm/diff_step.h"
+#include "kernels/math/atomic_planes.h"
 #include "kernels/math/mat3.h"
 #include "kernels/mpm/bspline.h"
 #include "kernels/mpm/domain_walls.h"
@@ -12,7 +12,9 @@
 namespace romp::diffmpm {
 
 template <class T>
-ROMP_HD_INLINE T inverse_dx(const StepParams<T>& step) { return T(1) / step.dx; }
+ROMP_HD_INLINE T inverse_dx(const StepParams<T>& step) {
+  return T(1) / step.dx;
+}
 
 // D⁻¹ and the MLS stress factor k = −dt V₀ D⁻¹ (mpm::stress_factor) of this step.
 template <class T>

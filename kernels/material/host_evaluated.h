@@ -27,7 +27,9 @@ struct HostEvaluated {
   ROMP_HD Mat3<T> first_piola(const Mat3<T>&) const { return Mat3<T>::diag(not_here(), not_here(), not_here()); }
   ROMP_HD Mat3<T> first_piola_differential(const Mat3<T>& F, const Mat3<T>&) const { return first_piola(F); }
   ROMP_HD Vec3<T> principal_stress(const Vec3<T>&) const { return Vec3<T>::constant(not_here()); }
-  ROMP_HD Mat3<T> principal_stress_derivative(const Vec3<T>&) const { return Mat3<T>::diag(not_here(), not_here(), not_here()); }
+  ROMP_HD Mat3<T> principal_stress_derivative(const Vec3<T>&) const {
+    return Mat3<T>::diag(not_here(), not_here(), not_here());
+  }
 };
 
 }  // namespace romp::material

@@ -129,16 +129,15 @@ ROMP_HD PrincipalStiffness<T> isotropic_stiffness(const Model& model, const Mat3
   PrincipalStiffness<T> stiffness{svd.U, svd.V, model.principal_stress_derivative(sigma), Vec3<T>::zero(),
                                   Vec3<T>::zero()};
   const Mat3<T>& D = stiffness.D;
-  const T gap_floor =
-      math::max(Svd3Config<T>::kGradientGapFloor * math::abs(sigma[0]), Svd3Config<T>::kNegligible);
+  const T gap_floor = math::max(Svd3Config<T>::kGradientGapFloor * math::abs(sigma[0]), Svd3Config<T>::kNegligible);
   for (int pair = 0; pair < 3; ++pair) {
     const int i = isotropic_detail::pair_first(pair), j = isotropic_detail::pair_second(pair);
     const T diagonal_mean = T(0.5) * (D(i, i) + D(j, j));
     const T cross_mean = T(0.5) * (D(i, j) + D(j, i));
-    stiffness.symmetric_modulus[pair] = isotropic_detail::quotient_or_limit(
-        stress[i] - stress[j], sigma[i] - sigma[j], diagonal_mean - cross_mean, gap_floor);
-    stiffness.skew_modulus[pair] = isotropic_detail::quotient_or_limit(
-        stress[i] + stress[j], sigma[i] + sigma[j], diagonal_mean + cross_mean, gap_floor);
+    stiffness.symmetric_modulus[pair] = isotropic_detail::quotient_or_limit(stress[i] - stress[j], sigma[i] - sigma[j],
+                                                                            diagonal_mean - cross_mean, gap_floor);
+    stiffness.skew_modulus[pair] = isotropic_detail::quotient_or_limit(stress[i] + stress[j], sigma[i] + sigma[j],
+                                                                       diagonal_mean + cross_mean, gap_floor);
   }
   return stiffness;
 }

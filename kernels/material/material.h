@@ -61,8 +61,13 @@ struct MaterialParams {
   }
   // The friction angle in degrees, 0 ≤ φ < 90; α is computed here, once, rather than per particle.
   static MaterialParams drucker_prager(Lame<T> lame, T friction_angle_degrees, T cohesion) {
-    return {MaterialModel::DruckerPrager, lame.mu, lame.lambda, T(0), drucker_prager_alpha(friction_angle_degrees),
-            cohesion, T(0)};
+    return {MaterialModel::DruckerPrager,
+            lame.mu,
+            lame.lambda,
+            T(0),
+            drucker_prager_alpha(friction_angle_degrees),
+            cohesion,
+            T(0)};
   }
   // This record with inversion handling (stretch_clamp.h) at `floor`; not for the fluid, whose F
   // carries only a volume.
@@ -87,20 +92,14 @@ static_assert(sizeof(MaterialParams<float>) <= 7 * sizeof(float), "one record pe
 template <class T, class Visitor>
 ROMP_HD auto visit_model(const MaterialParams<T>& params, const Visitor& visitor) {
   switch (params.model) {
-    case MaterialModel::FixedCorotated:
-      return visitor(FixedCorotated<T>{params.mu, params.lambda});
-    case MaterialModel::NeoHookean:
-      return visitor(NeoHookean<T>{params.mu, params.lambda});
-    case MaterialModel::HenckyStVK:
-      return visitor(HenckyStVK<T>{params.mu, params.lambda});
+    case MaterialModel::FixedCorotated: return visitor(FixedCorotated<T>{params.mu, params.lambda});
+    case MaterialModel::NeoHookean: return visitor(NeoHookean<T>{params.mu, params.lambda});
+    case MaterialModel::HenckyStVK: return visitor(HenckyStVK<T>{params.mu, params.lambda});
     case MaterialModel::DruckerPrager:
       return visitor(DruckerPrager<T>{{params.mu, params.lambda}, params.friction_alpha, params.cohesion});
-    case MaterialModel::VonMises:
-      return visitor(VonMises<T>{{params.mu, params.lambda}, params.yield_stress});
-    case MaterialModel::WeaklyCompressibleFluid:
-      return visitor(WeaklyCompressibleFluid<T>{params.lambda});
-    case MaterialModel::Neural:
-      return visitor(HostEvaluated<T>{});
+    case MaterialModel::VonMises: return visitor(VonMises<T>{{params.mu, params.lambda}, params.yield_stress});
+    case MaterialModel::WeaklyCompressibleFluid: return visitor(WeaklyCompressibleFluid<T>{params.lambda});
+    case MaterialModel::Neural: return visitor(HostEvaluated<T>{});
   }
   // MaterialParams come from the factories above and the host's scene reader, which only write
   // enumerators: a value outside the enum is a programming error.
@@ -113,14 +112,18 @@ template <class T>
 struct EnergyDensity {
   const Mat3<T>& F;
   template <class Model>
-  ROMP_HD T operator()(const Model& model) const { return model.energy_density(F); }
+  ROMP_HD T operator()(const Model& model) const {
+    return model.energy_density(F);
+  }
 };
 
 template <class T>
 struct FirstPiola {
   const Mat3<T>& F;
   template <class Model>
-  ROMP_HD Mat3<T> operator()(const Model& model) const { return model.first_piola(F); }
+  ROMP_HD Mat3<T> operator()(const Model& model) const {
+    return model.first_piola(F);
+  }
 };
 
 template <class T>
@@ -128,14 +131,18 @@ struct FirstPiolaDifferential {
   const Mat3<T>& F;
   const Mat3<T>& dF;
   template <class Model>
-  ROMP_HD Mat3<T> operator()(const Model& model) const { return model.first_piola_differential(F, dF); }
+  ROMP_HD Mat3<T> operator()(const Model& model) const {
+    return model.first_piola_differential(F, dF);
+  }
 };
 
 template <class T>
 struct DefiniteStiffness {
   const Mat3<T>& F;
   template <class Model>
-  ROMP_HD PrincipalStiffness<T> operator()(const Model& model) const { return isotropic_stiffness(model, F).definite(); }
+  ROMP_HD PrincipalStiffness<T> operator()(const Model& model) const {
+    return isotropic_stiffness(model, F).definite();
+  }
 };
 
 template <class T>
@@ -143,14 +150,18 @@ struct ProjectPlastic {
   const Mat3<T>& F_trial;
   template <class Model>
   ROMP_HD Mat3<T> operator()(const Model& model) const {
-    if constexpr (Model::kPlastic) return model.project(F_trial);
-    else return F_trial;
+    if constexpr (Model::kPlastic)
+      return model.project(F_trial);
+    else
+      return F_trial;
   }
 };
 
 struct IsPlastic {
   template <class Model>
-  ROMP_HD bool operator()(const Model&) const { return Model::kPlastic; }
+  ROMP_HD bool operator()(const Model&) const {
+    return Model::kPlastic;
+  }
 };
 
 }  // namespace material_detail

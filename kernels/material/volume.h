@@ -28,8 +28,7 @@ template <class T>
 ROMP_HD_INLINE Mat3<T> cofactor_differential(const Mat3<T>& F, const Mat3<T>& dF) {
   const Vec3<T> a = F.column(0), b = F.column(1), c = F.column(2);
   const Vec3<T> da = dF.column(0), db = dF.column(1), dc = dF.column(2);
-  return Mat3<T>::from_columns(cross(db, c) + cross(b, dc), cross(dc, a) + cross(c, da),
-                               cross(da, b) + cross(a, db));
+  return Mat3<T>::from_columns(cross(db, c) + cross(b, dc), cross(dc, a) + cross(c, da), cross(da, b) + cross(a, db));
 }
 
 // J = σ₀σ₁σ₂ as a function of the (signed) singular values: ∂J/∂σ, the products of the other two,

@@ -29,9 +29,7 @@ struct WeaklyCompressibleFluid {
     return T(0.5) * lambda * volume_change * volume_change;
   }
 
-  ROMP_HD Mat3<T> first_piola(const Mat3<T>& F) const {
-    return lambda * (determinant(F) - T(1)) * cofactor(F);
-  }
+  ROMP_HD Mat3<T> first_piola(const Mat3<T>& F) const { return lambda * (determinant(F) - T(1)) * cofactor(F); }
 
   ROMP_HD Mat3<T> first_piola_differential(const Mat3<T>& F, const Mat3<T>& dF) const {
     const Mat3<T> cof = cofactor(F);

@@ -18,9 +18,7 @@ struct Mat3 {
 
   ROMP_HD static constexpr Mat3 zero() { return diag(T(0), T(0), T(0)); }
   ROMP_HD static constexpr Mat3 identity() { return diag(T(1), T(1), T(1)); }
-  ROMP_HD static constexpr Mat3 diag(T d0, T d1, T d2) {
-    return Mat3(d0, T(0), T(0), T(0), d1, T(0), T(0), T(0), d2);
-  }
+  ROMP_HD static constexpr Mat3 diag(T d0, T d1, T d2) { return Mat3(d0, T(0), T(0), T(0), d1, T(0), T(0), T(0), d2); }
   ROMP_HD static constexpr Mat3 diag(const Vec3<T>& d) { return diag(d[0], d[1], d[2]); }
   ROMP_HD static constexpr Mat3 from_rows(const Vec3<T>& r0, const Vec3<T>& r1, const Vec3<T>& r2) {
     return Mat3(r0[0], r0[1], r0[2], r1[0], r1[1], r1[2], r2[0], r2[1], r2[2]);
@@ -30,8 +28,8 @@ struct Mat3 {
   }
   // a bᵀ
   ROMP_HD static constexpr Mat3 outer(const Vec3<T>& a, const Vec3<T>& b) {
-    return Mat3(a[0] * b[0], a[0] * b[1], a[0] * b[2], a[1] * b[0], a[1] * b[1], a[1] * b[2], a[2] * b[0],
-                a[2] * b[1], a[2] * b[2]);
+    return Mat3(a[0] * b[0], a[0] * b[1], a[0] * b[2], a[1] * b[0], a[1] * b[1], a[1] * b[2], a[2] * b[0], a[2] * b[1],
+                a[2] * b[2]);
   }
 
   ROMP_HD constexpr T& operator()(int row, int column) { return m[row][column]; }
@@ -61,15 +59,25 @@ struct Mat3 {
 };
 
 template <class T>
-ROMP_MATH_INLINE Mat3<T> operator+(Mat3<T> a, const Mat3<T>& b) { return a += b; }
+ROMP_MATH_INLINE Mat3<T> operator+(Mat3<T> a, const Mat3<T>& b) {
+  return a += b;
+}
 template <class T>
-ROMP_MATH_INLINE Mat3<T> operator-(Mat3<T> a, const Mat3<T>& b) { return a -= b; }
+ROMP_MATH_INLINE Mat3<T> operator-(Mat3<T> a, const Mat3<T>& b) {
+  return a -= b;
+}
 template <class T>
-ROMP_MATH_INLINE Mat3<T> operator-(Mat3<T> a) { return a *= T(-1); }
+ROMP_MATH_INLINE Mat3<T> operator-(Mat3<T> a) {
+  return a *= T(-1);
+}
 template <class T>
-ROMP_MATH_INLINE Mat3<T> operator*(Mat3<T> a, T s) { return a *= s; }
+ROMP_MATH_INLINE Mat3<T> operator*(Mat3<T> a, T s) {
+  return a *= s;
+}
 template <class T>
-ROMP_MATH_INLINE Mat3<T> operator*(T s, Mat3<T> a) { return a *= s; }
+ROMP_MATH_INLINE Mat3<T> operator*(T s, Mat3<T> a) {
+  return a *= s;
+}
 template <class T>
 ROMP_MATH_INLINE bool operator==(const Mat3<T>& a, const Mat3<T>& b) {
   for (int r = 0; r < 3; ++r)
@@ -112,9 +120,13 @@ ROMP_MATH_INLINE Mat3<T> times_transpose(const Mat3<T>& a, const Mat3<T>& b) {
 }
 
 template <class T>
-ROMP_MATH_INLINE T trace(const Mat3<T>& a) { return a.m[0][0] + a.m[1][1] + a.m[2][2]; }
+ROMP_MATH_INLINE T trace(const Mat3<T>& a) {
+  return a.m[0][0] + a.m[1][1] + a.m[2][2];
+}
 template <class T>
-ROMP_MATH_INLINE T determinant(const Mat3<T>& a) { return dot(a.row(0), cross(a.row(1), a.row(2))); }
+ROMP_MATH_INLINE T determinant(const Mat3<T>& a) {
+  return dot(a.row(0), cross(a.row(1), a.row(2)));
+}
 // x = a⁻¹ r by Cramer's rule (the columns of det(a) a⁻¹ are the cross products of a's rows), where
 // det a > 0; returns false, leaving x alone, for an inverted or degenerate a (or a non-finite det).
 template <class T>
@@ -134,9 +146,13 @@ ROMP_MATH_INLINE T inner(const Mat3<T>& a, const Mat3<T>& b) {
   return sum;
 }
 template <class T>
-ROMP_MATH_INLINE T squared_frobenius_norm(const Mat3<T>& a) { return inner(a, a); }
+ROMP_MATH_INLINE T squared_frobenius_norm(const Mat3<T>& a) {
+  return inner(a, a);
+}
 template <class T>
-ROMP_MATH_INLINE T frobenius_norm(const Mat3<T>& a) { return math::sqrt(squared_frobenius_norm(a)); }
+ROMP_MATH_INLINE T frobenius_norm(const Mat3<T>& a) {
+  return math::sqrt(squared_frobenius_norm(a));
+}
 // max |a_ij|
 template <class T>
 ROMP_MATH_INLINE T max_abs(const Mat3<T>& a) {
@@ -147,11 +163,17 @@ ROMP_MATH_INLINE T max_abs(const Mat3<T>& a) {
 }
 // The diagonal as a vector.
 template <class T>
-ROMP_MATH_INLINE Vec3<T> diagonal(const Mat3<T>& a) { return Vec3<T>(a.m[0][0], a.m[1][1], a.m[2][2]); }
+ROMP_MATH_INLINE Vec3<T> diagonal(const Mat3<T>& a) {
+  return Vec3<T>(a.m[0][0], a.m[1][1], a.m[2][2]);
+}
 // (a + aᵀ)/2 and (a − aᵀ)/2.
 template <class T>
-ROMP_MATH_INLINE Mat3<T> symmetric_part(const Mat3<T>& a) { return T(0.5) * (a + transpose(a)); }
+ROMP_MATH_INLINE Mat3<T> symmetric_part(const Mat3<T>& a) {
+  return T(0.5) * (a + transpose(a));
+}
 template <class T>
-ROMP_MATH_INLINE Mat3<T> skew_part(const Mat3<T>& a) { return T(0.5) * (a - transpose(a)); }
+ROMP_MATH_INLINE Mat3<T> skew_part(const Mat3<T>& a) {
+  return T(0.5) * (a - transpose(a));
+}
 
 }  // namespace romp

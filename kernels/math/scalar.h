@@ -57,8 +57,10 @@ struct FloatBits<double> {
 template <class T>
 ROMP_MATH_INLINE typename FloatBits<T>::Word to_bits(T x) {
 #if defined(__CUDA_ARCH__)
-  if constexpr (std::is_same_v<T, float>) return __float_as_uint(x);
-  else return static_cast<std::uint64_t>(__double_as_longlong(x));
+  if constexpr (std::is_same_v<T, float>)
+    return __float_as_uint(x);
+  else
+    return static_cast<std::uint64_t>(__double_as_longlong(x));
 #else
   typename FloatBits<T>::Word word;
   std::memcpy(&word, &x, sizeof word);
@@ -69,8 +71,10 @@ ROMP_MATH_INLINE typename FloatBits<T>::Word to_bits(T x) {
 template <class T>
 ROMP_MATH_INLINE T from_bits(typename FloatBits<T>::Word word) {
 #if defined(__CUDA_ARCH__)
-  if constexpr (std::is_same_v<T, float>) return __uint_as_float(word);
-  else return __longlong_as_double(static_cast<long long>(word));
+  if constexpr (std::is_same_v<T, float>)
+    return __uint_as_float(word);
+  else
+    return __longlong_as_double(static_cast<long long>(word));
 #else
   T x;
   std::memcpy(&x, &word, sizeof x);
@@ -131,8 +135,10 @@ ROMP_MATH_INLINE void swap_if(bool condition, T& a, T& b) {
 template <class T>
 ROMP_MATH_INLINE T rsqrt(T x) {
 #if defined(__CUDA_ARCH__)
-  if constexpr (std::is_same_v<T, float>) return ::rsqrtf(x);
-  else return ::rsqrt(x);
+  if constexpr (std::is_same_v<T, float>)
+    return ::rsqrtf(x);
+  else
+    return ::rsqrt(x);
 #else
   using Bits = detail::FloatBits<T>;
   T y = detail::from_bits<T>(Bits::kRsqrtMagic - (detail::to_bits(x) >> 1));
@@ -146,8 +152,10 @@ ROMP_MATH_INLINE T rsqrt(T x) {
 template <class T>
 ROMP_MATH_INLINE T sqrt(T x) {
 #if defined(__CUDA_ARCH__)
-  if constexpr (std::is_same_v<T, float>) return ::sqrtf(x);
-  else return ::sqrt(x);
+  if constexpr (std::is_same_v<T, float>)
+    return ::sqrtf(x);
+  else
+    return ::sqrt(x);
 #else
   return x * rsqrt(x);
 #endif

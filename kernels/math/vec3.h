@@ -36,15 +36,25 @@ struct Vec3 {
 };
 
 template <class T>
-ROMP_MATH_INLINE Vec3<T> operator+(Vec3<T> a, const Vec3<T>& b) { return a += b; }
+ROMP_MATH_INLINE Vec3<T> operator+(Vec3<T> a, const Vec3<T>& b) {
+  return a += b;
+}
 template <class T>
-ROMP_MATH_INLINE Vec3<T> operator-(Vec3<T> a, const Vec3<T>& b) { return a -= b; }
+ROMP_MATH_INLINE Vec3<T> operator-(Vec3<T> a, const Vec3<T>& b) {
+  return a -= b;
+}
 template <class T>
-ROMP_MATH_INLINE Vec3<T> operator-(const Vec3<T>& a) { return Vec3<T>(-a[0], -a[1], -a[2]); }
+ROMP_MATH_INLINE Vec3<T> operator-(const Vec3<T>& a) {
+  return Vec3<T>(-a[0], -a[1], -a[2]);
+}
 template <class T>
-ROMP_MATH_INLINE Vec3<T> operator*(Vec3<T> a, T s) { return a *= s; }
+ROMP_MATH_INLINE Vec3<T> operator*(Vec3<T> a, T s) {
+  return a *= s;
+}
 template <class T>
-ROMP_MATH_INLINE Vec3<T> operator*(T s, Vec3<T> a) { return a *= s; }
+ROMP_MATH_INLINE Vec3<T> operator*(T s, Vec3<T> a) {
+  return a *= s;
+}
 template <class T>
 ROMP_MATH_INLINE bool operator==(const Vec3<T>& a, const Vec3<T>& b) {
   return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
@@ -64,8 +74,12 @@ ROMP_MATH_INLINE Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
   return Vec3<T>(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]);
 }
 template <class T>
-ROMP_MATH_INLINE T squared_norm(const Vec3<T>& a) { return dot(a, a); }
+ROMP_MATH_INLINE T squared_norm(const Vec3<T>& a) {
+  return dot(a, a);
+}
 template <class T>
-ROMP_MATH_INLINE T norm(const Vec3<T>& a) { return math::sqrt(squared_norm(a)); }
+ROMP_MATH_INLINE T norm(const Vec3<T>& a) {
+  return math::sqrt(squared_norm(a));
+}
 
 }  // namespace romp

@@ -12,9 +12,9 @@ inline constexpr float kInverseInertiaScale = 4.0f;
 
 template <class T>
 struct QuadraticStencil {
-  int base[3];     // index of the lowest node touched, per axis
-  T fx[3];         // particle position relative to the base node, in cells (in [0.5, 1.5))
-  T w[3][3];       // w[axis][k]: 1D weight of node base + k
+  int base[3];  // index of the lowest node touched, per axis
+  T fx[3];      // particle position relative to the base node, in cells (in [0.5, 1.5))
+  T w[3][3];    // w[axis][k]: 1D weight of node base + k
 
   ROMP_HD QuadraticStencil(const Vec3<T>& x, T inverse_dx) {
     for (int a = 0; a < 3; ++a) {

@@ -32,15 +32,14 @@ struct ColliderState {  // trivially copyable: the host uploads an array of them
 };
 
 struct SignedDistance {
-  float distance;       // negative inside the solid
-  Vec3<float> normal;   // outward unit normal of the solid, world frame
+  float distance;      // negative inside the solid
+  Vec3<float> normal;  // outward unit normal of the solid, world frame
 };
 
 ROMP_HD inline SignedDistance local_signed_distance(ColliderShape shape, const Vec3<float>& p,
                                                     const Vec3<float>& half) {
   switch (shape) {
-    case ColliderShape::HalfSpace:
-      return {p[1], Vec3<float>(0.0f, 1.0f, 0.0f)};
+    case ColliderShape::HalfSpace: return {p[1], Vec3<float>(0.0f, 1.0f, 0.0f)};
     case ColliderShape::Sphere: {
       const float r = norm(p);
       return {r - half[0], r > 0.0f ? p * (1.0f / r) : Vec3<float>(0.0f, 1.0f, 0.0f)};
@@ -60,8 +59,8 @@ ROMP_HD inline SignedDistance local_signed_distance(ColliderShape shape, const V
     }
     case ColliderShape::Cylinder: {
       const float radial = math::sqrt(p[0] * p[0] + p[2] * p[2]);
-      const Vec3<float> radial_dir = radial > 0.0f ? Vec3<float>(p[0] / radial, 0.0f, p[2] / radial)
-                                                   : Vec3<float>(1.0f, 0.0f, 0.0f);
+      const Vec3<float> radial_dir =
+          radial > 0.0f ? Vec3<float>(p[0] / radial, 0.0f, p[2] / radial) : Vec3<float>(1.0f, 0.0f, 0.0f);
       const Vec3<float> axial_dir(0.0f, math::sign(p[1]), 0.0f);
       const float dr = radial - half[0], dy = math::abs(p[1]) - half[1];
       if (dr > 0.0f && dy > 0.0f) {

@@ -19,10 +19,10 @@ namespace romp::mpm {
 // when one holder is built from another.
 template <class T>
 struct DomainConfig {
-  T dx = T(0);                                         // m, the side of a grid cell
+  T dx = T(0);                                        // m, the side of a grid cell
   std::array<std::int32_t, 3> domain_cells{0, 0, 0};  // the domain is [0, cells dx] per axis
-  Vec3<T> gravity{T(0), T(-9.81), T(0)};               // m/s²
-  std::int32_t wall_cells = 3;                         // nodes this close to a domain face are wall nodes
+  Vec3<T> gravity{T(0), T(-9.81), T(0)};              // m/s²
+  std::int32_t wall_cells = 3;                        // nodes this close to a domain face are wall nodes
   ContactType wall_contact = ContactType::Separate;
   T wall_friction = T(0);  // Coulomb friction of Separate walls; the differentiable step has none
   T fixed_dt = T(0);       // s; > 0: every substep takes this Δt (the differentiable step needs one)

@@ -15,11 +15,11 @@ inline constexpr std::int32_t kNoDomain = -1;
 // keeps them together under stretching (no numerical fracture). Per-domain arrays hold 8 entries
 // per domain, corner α of domain d at 8 d + α (α as in hex_domain.h).
 struct DomainInit {
-  std::vector<float> corner_x;                // 3 planes over the corners (m)
+  std::vector<float> corner_x;                       // 3 planes over the corners (m)
   std::vector<std::int32_t> corner_dirichlet_group;  // per corner: a prescribed motion, or kNoDirichletGroup
-  std::vector<std::int32_t> corner;           // 8 per domain: corner indices
-  std::vector<float> weight;                  // 8 per domain: ω_αp
-  std::vector<float> gradient;                // 3 per entry: g_αp as (x, y, z) (1/m); kernels see planes
+  std::vector<std::int32_t> corner;                  // 8 per domain: corner indices
+  std::vector<float> weight;                         // 8 per domain: ω_αp
+  std::vector<float> gradient;                       // 3 per entry: g_αp as (x, y, z) (1/m); kernels see planes
   // A run resumed from a checkpoint starts from the corners' positions then (3 planes; empty: at
   // corner_x, which stays the reference configuration) and from the domain_stiffening of the substep
   // before (1 at rest), which the first CFL step reads.

@@ -86,7 +86,8 @@ void project_plasticity(const Exec& exec, const ParticleView& particles, const S
   for_each(exec, particles.count, ProjectPlasticity{particles, step});
 }
 
-void record_non_finite_deformation(const Exec& exec, const ParticleView& particles, const StepParams& step, Stage stage) {
+void record_non_finite_deformation(const Exec& exec, const ParticleView& particles, const StepParams& step,
+                                   Stage stage) {
   for_each(exec, particles.count,
            RecordNonFiniteDeformation{Mat3Planes<const float>(particles.F), step.first_failure.subspan(int(stage), 1)});
 }

@@ -53,7 +53,8 @@ ROMP_HD inline Vec3<float> resolve_boundaries(const StepParams& step, const Vec3
   for (Index c = 0; c < step.colliders.size(); ++c) {
     const ColliderState& collider = step.colliders[c];
     const SignedDistance sd = signed_distance(collider, x);
-    if (sd.distance < 0.0f) v = resolve_contact(v, collider.velocity_at(x), sd.normal, collider.contact, collider.friction);
+    if (sd.distance < 0.0f)
+      v = resolve_contact(v, collider.velocity_at(x), sd.normal, collider.contact, collider.friction);
   }
   return v;
 }

@@ -42,8 +42,8 @@ ROMP_HD_INLINE Vec3<T> corner_shape_gradient(int corner, const Vec3<T>& xi) {
 
 template <class T>
 struct HexDomainWeights {
-  T volume;                        // V⁰ = ∫_Ω⁰ dΩ
-  T weight[kDomainCorners];        // ω_αp: Σ_α ω_αp = 1
+  T volume;                          // V⁰ = ∫_Ω⁰ dΩ
+  T weight[kDomainCorners];          // ω_αp: Σ_α ω_αp = 1
   Vec3<T> gradient[kDomainCorners];  // g_αp: Σ_α g_αp = 0 and Σ_α X_α g_αpᵀ = I
 };
 

@@ -103,8 +103,10 @@ ROMP_HD_INLINE void hold_boundaries(const StepParams& step, const Vec3<float>& p
     const SignedDistance sd = signed_distance(collider, position);
     if (sd.distance >= 0.0f) continue;
     const bool separating = dot(v - collider.velocity_at(position), sd.normal) > 0.0f;
-    if (collider.contact == ContactType::Sticky) held.hold_all();
-    else if (!(collider.contact == ContactType::Separate && separating)) held.hold(sd.normal);
+    if (collider.contact == ContactType::Sticky)
+      held.hold_all();
+    else if (!(collider.contact == ContactType::Separate && separating))
+      held.hold(sd.normal);
   }
   for (int a = 0; a < 3; ++a) {
     const bool low = step.domain.near_low_wall(position[a], dx), high = step.domain.near_high_wall(a, position[a], dx);
@@ -336,8 +338,9 @@ void add_domain_stiffness(const Exec& exec, const ImplicitSystem& system, Span<c
                       std::size_t(domains.corners) * sizeof(float), exec.stream);
   const Scatter scatter = Scatter::for_exec(exec);
   for_each(exec, system.particles.count, DomainStiffness{system, scatter});
-  for_each(exec, domains.corners,
-           ScatterCornerForces{domains, system.grid, Vec3Planes<const float>(system.corner_force), out, nodes, scatter});
+  for_each(
+      exec, domains.corners,
+      ScatterCornerForces{domains, system.grid, Vec3Planes<const float>(system.corner_force), out, nodes, scatter});
 }
 
 struct InvertDiagonal {
@@ -363,8 +366,8 @@ struct ApplyPreconditioner {
   ROMP_HD void operator()(Index n) const {
     const Vec3<float> d = entry_vectors(inverse_diagonal, entries).load(n);
     const Vec3<float> residual = entry_vectors(r, entries).load(n);
-    entry_vectors(z, entries).store(n, projector.load(n) * Vec3<float>(d[0] * residual[0], d[1] * residual[1],
-                                                                       d[2] * residual[2]));
+    entry_vectors(z, entries)
+        .store(n, projector.load(n) * Vec3<float>(d[0] * residual[0], d[1] * residual[1], d[2] * residual[2]));
   }
 };
 
@@ -382,7 +385,8 @@ struct ApplyStiffness {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         for (int k = 0; k < 3; ++k)
-          displacement_gradient += Mat3<float>::outer(x_entries.load(s.nodes.node(i, j, k)), s.weight_gradient(i, j, k));
+          displacement_gradient +=
+              Mat3<float>::outer(x_entries.load(s.nodes.node(i, j, k)), s.weight_gradient(i, j, k));
     const Mat3<float> force_moment = scale * times_transpose(stiffness.apply(displacement_gradient * F), F);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
@@ -483,8 +487,7 @@ void apply_preconditioner(const Exec& exec, const ImplicitSystem& system, Span<c
                           Span<const float> r, Span<float> z) {
   for (const Span<const float> v : {inverse_diagonal, r, Span<const float>(z)})
     check_entry_vector(v, system, "a preconditioner vector");
-  for_each(exec, system.entries(),
-           ApplyPreconditioner{system.projector, inverse_diagonal, r, z, system.entries()});
+  for_each(exec, system.entries(), ApplyPreconditioner{system.projector, inverse_diagonal, r, z, system.entries()});
 }
 
 void apply_implicit_operator(const Exec& exec, const ImplicitSystem& system, Span<const float> x, Span<float> Ax) {

@@ -72,9 +72,9 @@ struct ImplicitSystem {
   GridView grid;  // mass, and v* in `velocity`
   StepParams step;
   Span<const material::PrincipalStiffness<float>> stiffness;  // per particle, at its F
-  Mat3Planes<const float> projector;  // per node: S_i, onto the directions that are unknown
-  DomainView domains;                 // corners == 0 without particle domains
-  Vec3Planes<float> corner_displacement, corner_force;  // scratch, one entry per corner
+  Mat3Planes<const float> projector;                          // per node: S_i, onto the directions that are unknown
+  DomainView domains;                                         // corners == 0 without particle domains
+  Vec3Planes<float> corner_displacement, corner_force;        // scratch, one entry per corner
 
   ROMP_HD Index nodes() const { return grid.blocks * kNodesPerBlock; }
   // Values per component of the flat vectors: the active nodes, then the domain corners.

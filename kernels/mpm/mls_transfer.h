@@ -39,8 +39,7 @@ ROMP_HD_INLINE Mat3<T> affine_momentum(T k, const Mat3<T>& P, const Mat3<T>& F, 
 // The momentum node i receives from a particle of momentum m v and affine momentum A:
 // w (m v + A (x_i − x_p)), with offset = x_i − x_p.
 template <class T>
-ROMP_HD_INLINE Vec3<T> node_momentum(T weight, const Vec3<T>& momentum, const Mat3<T>& affine,
-                                     const Vec3<T>& offset) {
+ROMP_HD_INLINE Vec3<T> node_momentum(T weight, const Vec3<T>& momentum, const Mat3<T>& affine, const Vec3<T>& offset) {
   return weight * (momentum + affine * offset);
 }
 

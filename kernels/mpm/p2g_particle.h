@@ -28,8 +28,8 @@ struct P2GParticle {
     const Mat3<float> P = particle_first_piola(step, params, p, F);
     if (!is_finite(P)) atomic_min(&step.first_failure[int(Stage::P2G)], std::int64_t(p));
     const float k = stress_factor(step.dt, particles.volume0[p], inverse_inertia(grid.inverse_dx));
-    affine = step.transfer == Transfer::Apic ? affine_momentum(k, P, F, mass, particles.C.load(p))
-                                             : stress_impulse(k, P, F);
+    affine =
+        step.transfer == Transfer::Apic ? affine_momentum(k, P, F, mass, particles.C.load(p)) : stress_impulse(k, P, F);
     momentum = mass * v;
     for (Index l = 0; l < step.loads.size(); ++l)
       if (step.loads[l].contains(x)) momentum += (mass * step.dt) * step.loads[l].acceleration;

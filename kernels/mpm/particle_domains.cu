@@ -14,11 +14,11 @@
 #include "kernels/material/volume.h"
 #include "kernels/math/finite.h"
 #include "kernels/math/scatter.h"
-#include "kernels/svd/svd3.h"
-#include "kernels/mpm/grid_boundary.h"
 #include "kernels/mpm/bspline.h"
+#include "kernels/mpm/grid_boundary.h"
 #include "kernels/mpm/mls_transfer.h"
 #include "kernels/mpm/stencil_nodes.h"
+#include "kernels/svd/svd3.h"
 
 namespace romp::mpm {
 namespace {
@@ -262,15 +262,15 @@ ParticleDomains::ParticleDomains(Backend backend, const DomainInit& init)
   enriched_.fill_zero();
   enriched_particles_ = DeviceBuffer<std::int32_t>(backend, 1);
   enriched_particles_.fill_zero();
-  ROMP_CHECK(init.stiffening >= 1.0f, "particle domains: the initial stiffening must be >= 1, got " +
-                                          std::to_string(init.stiffening));
+  ROMP_CHECK(init.stiffening >= 1.0f,
+             "particle domains: the initial stiffening must be >= 1, got " + std::to_string(init.stiffening));
   stiffening_ = DeviceBuffer<float>::from_host(backend, std::vector<float>{init.stiffening});
   double smallest_edge = std::numeric_limits<double>::infinity();
   for (Index d = 0; d < count_; ++d)
     // Corner 0's three neighbours along the reference axes (α = 4, 2, 1).
     for (int a : {4, 2, 1})
-      smallest_edge = std::min(smallest_edge, norm(init.corner_position(init.corner_x, d, a) -
-                                                   init.corner_position(init.corner_x, d, 0)));
+      smallest_edge = std::min(
+          smallest_edge, norm(init.corner_position(init.corner_x, d, a) - init.corner_position(init.corner_x, d, 0)));
   smallest_edge_ = float(smallest_edge);
 }
 
@@ -309,8 +309,8 @@ std::size_t ParticleDomains::bytes() const {
          enriched_particles_.bytes() + stiffening_.bytes();
 }
 
-void mark_enrichment(const Exec& exec, const ParticleView& particles, const DomainView& domains,
-                     const StepParams& step, float threshold) {
+void mark_enrichment(const Exec& exec, const ParticleView& particles, const DomainView& domains, const StepParams& step,
+                     float threshold) {
   memory::fill_zero(domains.enriched.data(), exec.backend, std::size_t(domains.corners) * sizeof(std::int32_t),
                     exec.stream);
   memory::fill_zero(domains.enriched_particles.data(), exec.backend, sizeof(std::int32_t), exec.stream);

@@ -29,9 +29,9 @@
 
 #include "kernels/core/device_buffer.h"
 #include "kernels/core/exec.h"
+#include "kernels/material/volume.h"
 #include "kernels/math/mat3_planes.h"
 #include "kernels/math/scalar.h"
-#include "kernels/material/volume.h"
 #include "kernels/mpm/domain_init.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
@@ -41,21 +41,21 @@ namespace romp::mpm {
 
 // What kernels see: per-domain weights (read only) and per-corner state and accumulators.
 struct DomainView {
-  Span<const std::int32_t> corner;      // [8 d + α]
-  Span<const float> weight;             // [8 d + α]: ω_αp
-  Vec3Planes<const float> gradient;     // entry 8 d + α: g_αp
+  Span<const std::int32_t> corner;   // [8 d + α]
+  Span<const float> weight;          // [8 d + α]: ω_αp
+  Vec3Planes<const float> gradient;  // entry 8 d + α: g_αp
   Index corners = 0;
-  Vec3Planes<float> x;                  // corner positions
-  Vec3Planes<float> v;                  // after grid_to_corners: grid velocity at the corner
-  Vec3Planes<float> v_old;              // after grid_to_corners: the same before this substep's forces
-  Vec3Planes<float> moved;              // after grid_to_corners: the corner's displacement this substep
-  Span<float> mass;                     // accumulated by particles_to_corners
+  Vec3Planes<float> x;      // corner positions
+  Vec3Planes<float> v;      // after grid_to_corners: grid velocity at the corner
+  Vec3Planes<float> v_old;  // after grid_to_corners: the same before this substep's forces
+  Vec3Planes<float> moved;  // after grid_to_corners: the corner's displacement this substep
+  Span<float> mass;         // accumulated by particles_to_corners
   Vec3Planes<float> momentum;
   Vec3Planes<float> force;
   Span<const std::int32_t> dirichlet_group;
-  Span<std::int32_t> enriched;          // per corner: 1 when it is a degree of freedom of its own this substep
+  Span<std::int32_t> enriched;            // per corner: 1 when it is a degree of freedom of its own this substep
   Span<std::int32_t> enriched_particles;  // [0]: particles that flagged their corners this substep
-  Span<float> stiffening;               // [0]: domain_stiffening of this substep's particles
+  Span<float> stiffening;                 // [0]: domain_stiffening of this substep's particles
 };
 
 // How much the squared elastic wave speed of a particle at F may exceed its value at rest, an
@@ -123,8 +123,8 @@ class ParticleDomains {
 
 // Flags the corners of every domain particle whose deformation_quality is at most `threshold`, or
 // one of whose stretches is below its material's inversion clamp (min_stretch). threshold 0: none.
-void mark_enrichment(const Exec& exec, const ParticleView& particles, const DomainView& domains,
-                     const StepParams& step, float threshold);
+void mark_enrichment(const Exec& exec, const ParticleView& particles, const DomainView& domains, const StepParams& step,
+                     float threshold);
 
 // Takes the domain away from every particle inside `region` (for good): from now on it exchanges
 // with the grid through its own stencil, like a particle that never had one, so the material can

@@ -114,11 +114,10 @@ Index run_starts(const Exec& exec, BlockSortScratch& scratch, DeviceBuffer<std::
                                                        exec.stream));
     const Index count = runs.to_host(exec.stream)[0];
     // Entries past the runs hold whatever Encode left there: zero them so the sum stops growing at n.
-    memory::fill_zero(lengths.data() + count, backend, std::size_t(n + 1 - count) * sizeof(std::int32_t),
-                      exec.stream);
+    memory::fill_zero(lengths.data() + count, backend, std::size_t(n + 1 - count) * sizeof(std::int32_t), exec.stream);
     bytes = 0;
-    ROMP_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, lengths.data(), starts.data(), int(n + 1),
-                                                  exec.stream));
+    ROMP_CUDA_CHECK(
+        cub::DeviceScan::ExclusiveSum(nullptr, bytes, lengths.data(), starts.data(), int(n + 1), exec.stream));
     ROMP_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(temporary_storage(scratch, backend, bytes), bytes, lengths.data(),
                                                   starts.data(), int(n + 1), exec.stream));
     return count;
@@ -183,9 +182,9 @@ ParticleSet::ParticleSet(Backend backend, const ParticleInit& init) : backend_(b
              "particle positions and velocities need 3 planes of " + std::to_string(n));
   ROMP_CHECK((init.F.empty() || Index(init.F.size()) == 9 * n) && (init.C.empty() || Index(init.C.size()) == 9 * n),
              "particle F and C need 9 planes of " + std::to_string(n) + " (or none)");
-  ROMP_CHECK(Index(init.volume0.size()) == n && Index(init.material.size()) == n &&
-                 Index(init.dirichlet_group.size()) == n,
-             "every per-particle array needs " + std::to_string(n) + " entries");
+  ROMP_CHECK(
+      Index(init.volume0.size()) == n && Index(init.material.size()) == n && Index(init.dirichlet_group.size()) == n,
+      "every per-particle array needs " + std::to_string(n) + " entries");
   ROMP_CHECK(init.domain.empty() || Index(init.domain.size()) == n,
              "the per-particle domain index needs " + std::to_string(n) + " entries (or none)");
   reals_ = DeviceBuffer<float>(backend, kRealPlanes * n);
@@ -234,8 +233,8 @@ void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
   BlockSortScratch& scratch = sort_scratch_;
   DeviceBuffer<std::uint64_t>& keys = sized(scratch.keys, backend_, n);
   DeviceBuffer<std::int32_t>& order = sized(scratch.order, backend_, n);
-  for_each(exec, n, BlockKeyOfParticle{Vec3Planes<const float>(reals(kX, 3).data(), n), keys.span(), order.span(),
-                                       inverse_dx});
+  for_each(exec, n,
+           BlockKeyOfParticle{Vec3Planes<const float>(reals(kX, 3).data(), n), keys.span(), order.span(), inverse_dx});
   sort_pairs(exec, scratch, integers(kId));
   if (!exec.is_cuda()) permute(exec, keys, 1, order.span(), scratch.sorted_keys);  // the CPU sort orders `order` alone
   if (block_starts_.size() < n + 1) block_starts_ = DeviceBuffer<std::int32_t>(backend_, n + 1);
@@ -244,9 +243,9 @@ void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
   DeviceBuffer<float>& reals = sized(scratch.reals, backend_, reals_.size());
   DeviceBuffer<std::int32_t>& integers = sized(scratch.integers, backend_, integers_.size());
   for_each(exec, n,
-           GatherParticle{GatherPlanes<float>{reals_.span(), n, reals.span(), by_block, kRealPlanes},
-                          GatherPlanes<std::int32_t>{integers_.span(), n, integers.span(), by_block,
-                                                     int(integers_.size() / n)}});
+           GatherParticle{
+               GatherPlanes<float>{reals_.span(), n, reals.span(), by_block, kRealPlanes},
+               GatherPlanes<std::int32_t>{integers_.span(), n, integers.span(), by_block, int(integers_.size() / n)}});
   std::swap(reals_, reals);
   std::swap(integers_, integers);
 }
@@ -275,7 +274,8 @@ std::vector<float> ParticleSet::affine_velocities_in_initial_order(const Exec& e
   return planes_in_initial_order<float>(exec, reals(kC, 9), 9);
 }
 std::vector<std::int32_t> ParticleSet::domains_in_initial_order(const Exec& exec) const {
-  return has_domains() ? planes_in_initial_order<std::int32_t>(exec, integers(kDomain), 1) : std::vector<std::int32_t>{};
+  return has_domains() ? planes_in_initial_order<std::int32_t>(exec, integers(kDomain), 1)
+                       : std::vector<std::int32_t>{};
 }
 
 }  // namespace romp::mpm

@@ -16,16 +16,16 @@ inline constexpr std::int32_t kNoDirichletGroup = -1;
 // What kernels see: planes and spans, no ownership.
 struct ParticleView {
   Index count = 0;
-  Vec3Planes<float> x;         // position (m)
-  Vec3Planes<float> v;         // velocity (m/s)
-  Mat3Planes<float> C;         // affine velocity / velocity gradient (1/s)
-  Mat3Planes<float> F;         // elastic deformation gradient
-  Span<float> mass;            // kg
-  Span<float> volume0;         // reference volume (m^3)
-  Span<std::int32_t> material; // index into the step's material table
+  Vec3Planes<float> x;                 // position (m)
+  Vec3Planes<float> v;                 // velocity (m/s)
+  Mat3Planes<float> C;                 // affine velocity / velocity gradient (1/s)
+  Mat3Planes<float> F;                 // elastic deformation gradient
+  Span<float> mass;                    // kg
+  Span<float> volume0;                 // reference volume (m^3)
+  Span<std::int32_t> material;         // index into the step's material table
   Span<std::int32_t> dirichlet_group;  // index into the step's prescribed motions, or kNoDirichletGroup
-  Span<std::int32_t> id;       // index of the particle in the initial state (sorting permutes the arrays)
-  Span<std::int32_t> domain;   // the particle's hexahedral domain, or kNoDomain; empty when no particle has one
+  Span<std::int32_t> id;               // index of the particle in the initial state (sorting permutes the arrays)
+  Span<std::int32_t> domain;           // the particle's hexahedral domain, or kNoDomain; empty when no particle has one
 
   // Particles with a domain exchange with the grid through its corners (particle_domains.h), not
   // through their own stencil.
@@ -35,8 +35,8 @@ struct ParticleView {
 // Host-side description of the initial particles (planes as in ParticleView). F and C may be left
 // empty (F = I, C = 0); a resumed run fills them from its checkpoint.
 struct ParticleInit {
-  std::vector<float> x, v;          // 3 planes each
-  std::vector<float> F, C;          // 9 planes each, or empty
+  std::vector<float> x, v;  // 3 planes each
+  std::vector<float> F, C;  // 9 planes each, or empty
   std::vector<float> mass, volume0;
   std::vector<std::int32_t> material, dirichlet_group;
   std::vector<std::int32_t> domain;  // per particle: index into `domains`, or kNoDomain; empty when none has one
@@ -96,14 +96,14 @@ class ParticleSet {
   // id, and the domain where a particle has one.
   enum RealPlane : int { kX = 0, kV = 3, kC = 6, kF = 15, kMass = 24, kVolume0 = 25, kRealPlanes = 26 };
   enum IntegerPlane : int { kMaterial = 0, kDirichletGroup = 1, kId = 2, kDomain = 3 };
-  Span<float> reals(int first, int planes) { return reals_.span().subspan(Index(first) * count_, Index(planes) * count_); }
+  Span<float> reals(int first, int planes) {
+    return reals_.span().subspan(Index(first) * count_, Index(planes) * count_);
+  }
   Span<const float> reals(int first, int planes) const {
     return reals_.span().subspan(Index(first) * count_, Index(planes) * count_);
   }
   Span<std::int32_t> integers(int plane) { return integers_.span().subspan(Index(plane) * count_, count_); }
-  Span<const std::int32_t> integers(int plane) const {
-    return integers_.span().subspan(Index(plane) * count_, count_);
-  }
+  Span<const std::int32_t> integers(int plane) const { return integers_.span().subspan(Index(plane) * count_, count_); }
   bool has_domains() const { return integers_.size() > Index(kDomain) * count_; }
 
   Backend backend_;

@@ -34,7 +34,8 @@ ROMP_HD_INLINE int block_coordinate(std::uint64_t key, int axis) {
 }
 // Node (i, j, k) lives in block (i/4, j/4, k/4) at local index 16 (i%4) + 4 (j%4) + k%4.
 ROMP_HD_INLINE int local_node(int i, int j, int k) {
-  return (i & (kBlockSide - 1)) * kBlockSide * kBlockSide + (j & (kBlockSide - 1)) * kBlockSide + (k & (kBlockSide - 1));
+  return (i & (kBlockSide - 1)) * kBlockSide * kBlockSide + (j & (kBlockSide - 1)) * kBlockSide +
+         (k & (kBlockSide - 1));
 }
 
 // splitmix64's finaliser: neighbouring blocks land far apart in the table.
@@ -48,11 +49,11 @@ ROMP_HD_INLINE std::uint64_t hash_key(std::uint64_t key) {
 
 // What kernels see of the table: plain spans, no ownership.
 struct BlockTableView {
-  Span<std::uint64_t> keys;       // capacity slots, kEmptyKey where free
-  Span<std::int32_t> slot_block;  // block index stored in each filled slot
-  Span<std::uint64_t> block_keys; // key of each block index (max_blocks)
-  Span<std::int32_t> counters;    // [0] blocks handed out, [1] set when an insert found no room
-  std::uint64_t mask = 0;         // capacity - 1 (capacity is a power of two)
+  Span<std::uint64_t> keys;        // capacity slots, kEmptyKey where free
+  Span<std::int32_t> slot_block;   // block index stored in each filled slot
+  Span<std::uint64_t> block_keys;  // key of each block index (max_blocks)
+  Span<std::int32_t> counters;     // [0] blocks handed out, [1] set when an insert found no room
+  std::uint64_t mask = 0;          // capacity - 1 (capacity is a power of two)
 
   // Inserts `key` if absent. Safe to call concurrently; never blocks on a full table.
   ROMP_HD void insert(std::uint64_t key) const {

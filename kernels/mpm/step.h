@@ -25,12 +25,14 @@ enum class Transfer : std::int32_t {
 
 // A prescribed rigid motion over the substep [t, t + dt]: v(x) = linear + angular × (x − pivot(t)).
 struct RigidMotion {
-  Vec3<float> pivot;             // at the start of the substep
+  Vec3<float> pivot;  // at the start of the substep
   Vec3<float> linear_velocity;
   Vec3<float> angular_velocity;
-  Mat3<float> step_rotation;     // exp(dt [angular]×), so rotating particles stay on their circles
+  Mat3<float> step_rotation;  // exp(dt [angular]×), so rotating particles stay on their circles
 
-  ROMP_HD Vec3<float> velocity_at(const Vec3<float>& x) const { return linear_velocity + cross(angular_velocity, x - pivot); }
+  ROMP_HD Vec3<float> velocity_at(const Vec3<float>& x) const {
+    return linear_velocity + cross(angular_velocity, x - pivot);
+  }
   // Where the material point at x (at the start of the substep) is at its end.
   ROMP_HD Vec3<float> moved(const Vec3<float>& x, float dt) const {
     return pivot + dt * linear_velocity + step_rotation * (x - pivot);
@@ -81,14 +83,14 @@ struct StepParams {
   float dt = 0.0f;
   Vec3<float> gravity;
   Transfer transfer = Transfer::Apic;
-  float flip_alpha = 0.95f;               // FLIP share of the PIC/FLIP blend
-  Domain domain;                          // the box, its wall bands and their contact
-  float wall_friction = 0.0f;             // Coulomb friction of Separate walls (resolve_walls)
+  float flip_alpha = 0.95f;    // FLIP share of the PIC/FLIP blend
+  Domain domain;               // the box, its wall bands and their contact
+  float wall_friction = 0.0f;  // Coulomb friction of Separate walls (resolve_walls)
   Span<const material::MaterialParams<float>> materials;
   Span<const ColliderState> colliders;
   Span<const RigidMotion> dirichlet;
   Span<const RegionLoad> loads;
-  Span<std::int64_t> first_failure;       // kStageCount slots, kNoFailure until a stage sees a non-finite value
+  Span<std::int64_t> first_failure;  // kStageCount slots, kNoFailure until a stage sees a non-finite value
   // The first Piola stress of every particle whose material is MaterialModel::Neural, in this
   // substep's particle order (the host evaluates it after the sort); empty when no material is.
   Mat3Planes<const float> host_stress;
@@ -115,7 +117,8 @@ void project_plasticity(const Exec& exec, const ParticleView& particles, const S
 
 // Records the first particle whose F is not finite as `stage`'s failure (after a stage that changed F
 // outside the kernels above, such as a host-evaluated plastic law).
-void record_non_finite_deformation(const Exec& exec, const ParticleView& particles, const StepParams& step, Stage stage);
+void record_non_finite_deformation(const Exec& exec, const ParticleView& particles, const StepParams& step,
+                                   Stage stage);
 
 // Stores a particle's new state, recording it as G2P's failure when any of it is not finite: the end
 // of grid_to_particle and of corners_to_particles.

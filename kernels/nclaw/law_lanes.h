@@ -141,8 +141,7 @@ ROMP_MATH_INLINE void evaluate_law_block(const LawWeights<T>& w, const LawOutput
 // scratch (activation_rows(scratch, F.count(), ·)).
 template <class T>
 ROMP_MATH_INLINE void law_backward_block(const LawWeights<T>& w, const LawOutput<T>& output, Mat3Planes<const T> F,
-                                         Mat3Planes<const T> dY, Mat3Planes<T> dF, T* scratch, Index begin,
-                                         int count) {
+                                         Mat3Planes<const T> dY, Mat3Planes<T> dF, T* scratch, Index begin, int count) {
   using namespace lanes_detail;
   const LawActivationRows<T> rows = activation_rows(scratch, F.count(), begin);
   const Index stride = rows.stride;

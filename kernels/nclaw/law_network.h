@@ -30,9 +30,9 @@
 
 namespace romp::nclaw {
 
-inline constexpr int kLawInputs = 13;   // σ − 1 (3), FᵀF − I (9), det F − 1 (1)
-inline constexpr int kLawWidth = 64;    // hidden width of both laws (App. D.2)
-inline constexpr int kLawOutputs = 9;   // a 3×3 matrix, symmetrised
+inline constexpr int kLawInputs = 13;  // σ − 1 (3), FᵀF − I (9), det F − 1 (1)
+inline constexpr int kLawWidth = 64;   // hidden width of both laws (App. D.2)
+inline constexpr int kLawOutputs = 9;  // a 3×3 matrix, symmetrised
 inline constexpr int kLawWeights = kLawWidth * kLawInputs + kLawWidth * kLawWidth + kLawOutputs * kLawWidth;
 
 // The three weight matrices of one network, row-major [outputs, inputs].
@@ -118,9 +118,8 @@ ROMP_MATH_INLINE Stretch<T> stretch_of(const Mat3<T>& F, const Svd3<T>& svd) {
                              math::select(diagonal, c, svd.sigma[2])),
                      times_transpose(svd.U, svd.V)};
   ROMP_UNROLL
-  for (int r = 0; r < 3; ++r)
-    ROMP_UNROLL
-    for (int col = 0; col < 3; ++col) stretch.R(r, col) = math::select(diagonal, T(r == col ? 1 : 0), stretch.R(r, col));
+  for (int r = 0; r < 3; ++r) ROMP_UNROLL
+  for (int col = 0; col < 3; ++col) stretch.R(r, col) = math::select(diagonal, T(r == col ? 1 : 0), stretch.R(r, col));
   return stretch;
 }
 
@@ -130,9 +129,8 @@ ROMP_MATH_INLINE void features_of(const Mat3<T>& F, const Vec3<T>& sigma, T (&fe
   ROMP_UNROLL
   for (int a = 0; a < 3; ++a) features[a] = sigma[a] - T(1);
   ROMP_UNROLL
-  for (int r = 0; r < 3; ++r)
-    ROMP_UNROLL
-    for (int c = 0; c < 3; ++c) features[3 + 3 * r + c] = cauchy_green(r, c);
+  for (int r = 0; r < 3; ++r) ROMP_UNROLL
+  for (int c = 0; c < 3; ++c) features[3 + 3 * r + c] = cauchy_green(r, c);
   features[12] = determinant(F) - T(1);
 }
 
@@ -161,9 +159,8 @@ template <class T>
 ROMP_MATH_INLINE Mat3<T> symmetric_output(const T (&out)[kLawOutputs]) {
   Mat3<T> T_sym;
   ROMP_UNROLL
-  for (int r = 0; r < 3; ++r)
-    ROMP_UNROLL
-    for (int c = 0; c < 3; ++c) T_sym(r, c) = T(0.5) * (out[3 * r + c] + out[3 * c + r]);
+  for (int r = 0; r < 3; ++r) ROMP_UNROLL
+  for (int c = 0; c < 3; ++c) T_sym(r, c) = T(0.5) * (out[3 * r + c] + out[3 * c + r]);
   return T_sym;
 }
 
@@ -185,9 +182,8 @@ ROMP_MATH_INLINE Mat3<T> law_output_backward(const LawOutput<T>& output, const S
   const Mat3<T> dY = output.scale * dY_out;
   const Mat3<T> dT = symmetric_part(transpose_times(R, dY));
   ROMP_UNROLL
-  for (int r = 0; r < 3; ++r)
-    ROMP_UNROLL
-    for (int c = 0; c < 3; ++c) dout[3 * r + c] = dT(r, c);
+  for (int r = 0; r < 3; ++r) ROMP_UNROLL
+  for (int c = 0; c < 3; ++c) dout[3 * r + c] = dT(r, c);
   const Mat3<T> dF = polar3_backward(svd, times_transpose(dY, symmetric_output(out)), Mat3<T>::zero());
   return output.adds_input ? dF + dY_out : dF;
 }
@@ -198,9 +194,8 @@ template <class T>
 ROMP_MATH_INLINE Mat3<T> features_backward(const Mat3<T>& F, const T (&dfeatures)[kLawInputs]) {
   Mat3<T> G;
   ROMP_UNROLL
-  for (int r = 0; r < 3; ++r)
-    ROMP_UNROLL
-    for (int c = 0; c < 3; ++c) G(r, c) = dfeatures[3 + 3 * r + c];
+  for (int r = 0; r < 3; ++r) ROMP_UNROLL
+  for (int c = 0; c < 3; ++c) G(r, c) = dfeatures[3 + 3 * r + c];
   const Vec3<T> f0 = F.row(0), f1 = F.row(1), f2 = F.row(2);
   const Mat3<T> cofactor = Mat3<T>::from_rows(cross(f1, f2), cross(f2, f0), cross(f0, f1));
   const Vec3<T> dsigma(dfeatures[0], dfeatures[1], dfeatures[2]);

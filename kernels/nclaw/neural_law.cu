@@ -7,8 +7,8 @@
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
 #include "kernels/core/simd_for_each.h"
-#include "kernels/nclaw/law_lanes.h"
 #include "kernels/mpm/particle_set.h"
+#include "kernels/nclaw/law_lanes.h"
 
 namespace romp::nclaw {
 namespace {
@@ -105,7 +105,7 @@ struct GradientTile {
   const T* A;  // O planes of `count` scalars
   const T* B;  // I planes
   int O, I;
-  T* dW;       // [O, I] row-major
+  T* dW;  // [O, I] row-major
 };
 
 template <class T>
@@ -174,7 +174,8 @@ void law_forward(const Exec& exec, const LawWeights<T>& weights, const LawOutput
                  Mat3Planes<T> Y, const LawSelection& selection) {
   check_count("law_forward", "Y", Y.count(), F.count());
   if (selection.material == nullptr && selection.dirichlet_group == nullptr) {
-    run_blocks(exec, F.count(), LawForwardParticle<T, false>{weights, output, F, Y, selection}, forward_block<T, false>);
+    run_blocks(exec, F.count(), LawForwardParticle<T, false>{weights, output, F, Y, selection},
+               forward_block<T, false>);
   } else {
     run_blocks(exec, F.count(), LawForwardParticle<T, true>{weights, output, F, Y, selection}, forward_block<T, true>);
   }
@@ -189,7 +190,8 @@ void law_backward(const Exec& exec, const LawWeights<T>& weights, const LawOutpu
   ROMP_CHECK(activations.size() == kLawActivationPlanes * n,
              "law_backward: activation scratch holds " + std::to_string(activations.size()) + " scalars, expected " +
                  std::to_string(kLawActivationPlanes * n));
-  run_blocks(exec, n, LawBackwardParticle<T>{weights, output, F, dY, gradients.F, activations.data()}, backward_block<T>);
+  run_blocks(exec, n, LawBackwardParticle<T>{weights, output, F, dY, gradients.F, activations.data()},
+             backward_block<T>);
   if (exec.is_cuda()) {
     for_each(exec, kLawWeights, WeightGradientEntry<T>{activations.data(), n, gradients});
   } else {
@@ -197,10 +199,10 @@ void law_backward(const Exec& exec, const LawWeights<T>& weights, const LawOutpu
   }
 }
 
-#define ROMP_NEURAL_LAW(T)                                                                                          \
-  template void law_forward<T>(const Exec&, const LawWeights<T>&, const LawOutput<T>&, Mat3Planes<const T>,         \
-                               Mat3Planes<T>, const LawSelection&);                                                 \
-  template void law_backward<T>(const Exec&, const LawWeights<T>&, const LawOutput<T>&, Mat3Planes<const T>,        \
+#define ROMP_NEURAL_LAW(T)                                                                                   \
+  template void law_forward<T>(const Exec&, const LawWeights<T>&, const LawOutput<T>&, Mat3Planes<const T>,  \
+                               Mat3Planes<T>, const LawSelection&);                                          \
+  template void law_backward<T>(const Exec&, const LawWeights<T>&, const LawOutput<T>&, Mat3Planes<const T>, \
                                 Mat3Planes<const T>, Span<T>, const LawGradients<T>&);
 ROMP_NEURAL_LAW(float)
 ROMP_NEURAL_LAW(double)

@@ -47,9 +47,9 @@ Index deformation_map_parameter_count(int latent, int hidden_layers, int width) 
 template <class T>
 void evaluate_deformation_map(const Exec& exec, const DeformationMapView<T>& map, Span<const T> xhat,
                               Vec3Planes<const T> X, const DeformationMapOutputs<T>& out, MapKernel kernel) {
-  ROMP_CHECK(map.latent >= 1 && map.latent <= kMaxMapLatent,
-             "the fused map evaluator takes a latent size r in [1, " + std::to_string(kMaxMapLatent) + "], got " +
-                 std::to_string(map.latent));
+  ROMP_CHECK(map.latent >= 1 && map.latent <= kMaxMapLatent, "the fused map evaluator takes a latent size r in [1, " +
+                                                                 std::to_string(kMaxMapLatent) + "], got " +
+                                                                 std::to_string(map.latent));
   ROMP_CHECK(map.hidden_layers >= 0 && map.hidden_layers <= kMaxMapHiddenLayers,
              "the fused map evaluator takes 0 to " + std::to_string(kMaxMapHiddenLayers) + " hidden layers, got " +
                  std::to_string(map.hidden_layers));
@@ -73,6 +73,7 @@ void evaluate_deformation_map(const Exec& exec, const DeformationMapView<T>& map
 template void evaluate_deformation_map<float>(const Exec&, const DeformationMapView<float>&, Span<const float>,
                                               Vec3Planes<const float>, const DeformationMapOutputs<float>&, MapKernel);
 template void evaluate_deformation_map<double>(const Exec&, const DeformationMapView<double>&, Span<const double>,
-                                               Vec3Planes<const double>, const DeformationMapOutputs<double>&, MapKernel);
+                                               Vec3Planes<const double>, const DeformationMapOutputs<double>&,
+                                               MapKernel);
 
 }  // namespace romp::rom

@@ -77,9 +77,9 @@ inline DeformationMapView<float> map_view(const DeformationMapWeights& weights, 
 // computed only when F or dg_dxhat is asked for.
 template <class T>
 struct DeformationMapOutputs {
-  Vec3Planes<T> x;         // g(X, x̂), m
-  Mat3Planes<T> F;         // ∇_X g
-  Span<T> dg_dxhat;        // ∂g/∂x̂: 3 r planes of n, plane (o r + j) = ∂g_o/∂x̂_j
+  Vec3Planes<T> x;   // g(X, x̂), m
+  Mat3Planes<T> F;   // ∇_X g
+  Span<T> dg_dxhat;  // ∂g/∂x̂: 3 r planes of n, plane (o r + j) = ∂g_o/∂x̂_j
 };
 
 // Which kernel evaluates the map.

@@ -60,7 +60,7 @@ struct EulerianPoint {
     // straight to `out`.
     Vec3<float> g = Vec3<float>::zero(), step = Vec3<float>::zero();
     float residual = 0.0f;
-    bool exact = false;  // whether B is ∇_X g at X
+    bool exact = false;              // whether B is ∇_X g at X
     int iteration = 0, halving = 0;  // iterations taken; step halvings in this line search
     int evaluations = 0, jacobian_evaluations = 0;
     while (stage != Stage::Done) {
@@ -76,9 +76,9 @@ struct EulerianPoint {
       map(xhat, X + step, g_eval, B, jacobian,
           [&v_o, kinematics, vhat = vhat, v = out.v.data(), n = out.v.count(), last = map.latent() - 1, i](
               int o, int j, float dg_dxhat) {
-            v_o = (j == 0 ? 0.0f : v_o) + dg_dxhat * vhat[j];
-            if (kinematics && j == last) v[o * n + i] = v_o;
-          });
+        v_o = (j == 0 ? 0.0f : v_o) + dg_dxhat * vhat[j];
+        if (kinematics && j == last) v[o * n + i] = v_o;
+      });
 
       bool descended = false, line_search_failed = false;
       switch (stage) {
@@ -123,8 +123,7 @@ struct EulerianPoint {
           stage = Stage::Done;
           continue;
         }
-        case Stage::Done:
-          break;
+        case Stage::Done: break;
       }
       if (descended) {
         exact = false;
@@ -177,16 +176,15 @@ struct EulerianPoint {
 void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map, Span<const float> xhat,
                          Span<const float> vhat, const ReferenceOccupancy& occupancy, Span<const float> density,
                          float volume, const InversionOptions& options, Vec3Planes<const float> x,
-                         Vec3Planes<const float> X_guess, Mat3Planes<const float> F_guess,
-                         const EulerianPointsOut& out, MapKernel kernel) {
+                         Vec3Planes<const float> X_guess, Mat3Planes<const float> F_guess, const EulerianPointsOut& out,
+                         MapKernel kernel) {
   const Index n = x.count();
-  ROMP_CHECK(map.latent >= 1 && map.latent <= kMaxMapLatent && xhat.size() == map.latent &&
-                 vhat.size() == map.latent,
+  ROMP_CHECK(map.latent >= 1 && map.latent <= kMaxMapLatent && xhat.size() == map.latent && vhat.size() == map.latent,
              "x̂ and v̂ must hold the map's r values, r in [1, " + std::to_string(kMaxMapLatent) + "]");
   ROMP_CHECK(map.parameters.size() == deformation_map_parameter_count(map.latent, map.hidden_layers, map.width),
              "the map's parameter buffer does not match its sizes");
-  ROMP_CHECK(X_guess.count() == n && F_guess.count() == n && out.X.count() == n && out.v.count() == n && out.F.count() == n &&
-                 out.mass.size() == n && out.volume0.size() == n && out.material.size() == n &&
+  ROMP_CHECK(X_guess.count() == n && F_guess.count() == n && out.X.count() == n && out.v.count() == n &&
+                 out.F.count() == n && out.mass.size() == n && out.volume0.size() == n && out.material.size() == n &&
                  out.status.size() == n && out.iterations.size() == n && out.evaluations.size() == n &&
                  out.jacobian_evaluations.size() == n,
              "every quadrature array must hold one entry per point");

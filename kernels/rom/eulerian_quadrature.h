@@ -41,7 +41,7 @@ struct ReferenceOccupancy {
     for (int a = 0; a < 3; ++a) {
       const float c = (X[a] - origin[a]) * inverse_h;
       if (!(c > -float(margin) && c < float(cells[a] + margin))) return false;  // also rejects NaN
-      const int cell = int(c < 0.0f ? c - 1.0f : c);  // floor
+      const int cell = int(c < 0.0f ? c - 1.0f : c);                            // floor
       low[a] = cell - margin < 0 ? 0 : cell - margin;
       high[a] = cell + margin >= cells[a] ? cells[a] - 1 : cell + margin;
     }
@@ -89,8 +89,8 @@ struct EulerianPointsOut {
 void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map, Span<const float> xhat,
                          Span<const float> vhat, const ReferenceOccupancy& occupancy, Span<const float> density,
                          float volume, const InversionOptions& options, Vec3Planes<const float> x,
-                         Vec3Planes<const float> X_guess, Mat3Planes<const float> F_guess,
-                         const EulerianPointsOut& out, MapKernel kernel = MapKernel::Fastest);
+                         Vec3Planes<const float> X_guess, Mat3Planes<const float> F_guess, const EulerianPointsOut& out,
+                         MapKernel kernel = MapKernel::Fastest);
 
 // Running totals of the Eulerian quadrature, kept on the device so that a substep reads nothing back
 // for them: the points by status (QuadratureStatus) and their inversion iterations since the run

@@ -103,8 +103,8 @@ ROMP_HD_INLINE void reverse(const T* p, T* row, const T (*slope)[S::kWidth]) {
 // results of evaluate_map_point, for a map of shape S (H ≥ 1). Flags and a callback rather than output
 // pointers: a pointer to a local that may be null makes the local addressable, and so local memory.
 template <class T, class S, class DgSink>
-ROMP_HD void evaluate_fixed_map_point(const FixedMapWeights<T, S>& map, const T* xhat, const Vec3<T>& X,
-                                      Vec3<T>& x, Mat3<T>& F, bool jacobian, const DgSink& dg_dxhat) {
+ROMP_HD void evaluate_fixed_map_point(const FixedMapWeights<T, S>& map, const T* xhat, const Vec3<T>& X, Vec3<T>& x,
+                                      Mat3<T>& F, bool jacobian, const DgSink& dg_dxhat) {
   constexpr int R = S::kLatent, H = S::kHiddenLayers;
   static_assert(H >= 1, "the linear baseline has its own closed form; the generic evaluator serves it");
   const T* p = map.parameters;

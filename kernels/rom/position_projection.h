@@ -25,8 +25,8 @@
 namespace romp::rom {
 
 struct GaussNewtonOptions {
-  int iterations = 10;       // at most this many steps; more counts as unconverged
-  double tolerance = 1e-6;   // converged when a step changes y by ≤ tolerance × (1 + |y|)
+  int iterations = 10;      // at most this many steps; more counts as unconverged
+  double tolerance = 1e-6;  // converged when a step changes y by ≤ tolerance × (1 + |y|)
 };
 
 // Samples up to which one CUDA block runs the whole projection, a thread per sample (hyper-reduction uses
@@ -47,12 +47,12 @@ inline constexpr double kCostResolution = 1e-6;      // and at least this fracti
 // Where one projection stands, in device memory; written by one thread only.
 struct GaussNewtonState {
   enum Outcome : std::int32_t { kRunning = 0, kConverged = 1, kUnconverged = 2, kSingular = 3 };
-  float y[kMaxMapLatent];      // the accepted iterate
-  float trial[kMaxMapLatent];  // where the next linearisation is evaluated
-  double delta[kMaxMapLatent]; // the Gauss–Newton direction at y
-  double cost;                 // Σ ‖x − g(X; y)‖²
-  double alpha;                // the line search's step fraction
-  double target_norm2;         // Σ ‖t‖² over the samples' target positions
+  float y[kMaxMapLatent];       // the accepted iterate
+  float trial[kMaxMapLatent];   // where the next linearisation is evaluated
+  double delta[kMaxMapLatent];  // the Gauss–Newton direction at y
+  double cost;                  // Σ ‖x − g(X; y)‖²
+  double alpha;                 // the line search's step fraction
+  double target_norm2;          // Σ ‖t‖² over the samples' target positions
   std::int32_t iteration, halving, started, outcome;
   // Over the state's life (never reset by a start): projections that stopped at the iteration limit, and
   // linearisations (evaluations of g and ∂g/∂x̂ at the samples) taken.
@@ -155,17 +155,17 @@ struct GaussNewtonStep {
 
 // The inputs and scratch of one projection over m samples, on exec's backend.
 struct PositionProjection {
-  Vec3Planes<const float> X;      // the samples' reference positions
-  Vec3Planes<const float> target; // their trial positions
-  Vec3Planes<float> model;        // scratch: g(X; trial), m
-  Span<float> dg_dxhat;           // scratch: ∂g/∂x̂ at trial, 3 r planes of m
-  Span<double> system;            // scratch: r² + r + 1 (normal_equations' layout)
+  Vec3Planes<const float> X;       // the samples' reference positions
+  Vec3Planes<const float> target;  // their trial positions
+  Vec3Planes<float> model;         // scratch: g(X; trial), m
+  Span<float> dg_dxhat;            // scratch: ∂g/∂x̂ at trial, 3 r planes of m
+  Span<double> system;             // scratch: r² + r + 1 (normal_equations' layout)
   // [x̂_{n−1} | x̂_n] (2 r), advanced to [x̂_n | x̂_{n+1}] when the projection ends.
   Span<float> history;
   // [x̂ | v̂ | status] (2 r + 1, as advance_latent leaves it): x̂ in, the guess unless `extrapolate`; out,
   // x̂_{n+1}. A singular system sets the status to kLatentSingular and leaves x̂ as it came in.
   Span<float> latent;
-  Span<GaussNewtonState> state;   // 1
+  Span<GaussNewtonState> state;  // 1
 };
 
 // Gauss–Newton from the guess 2 x̂_n − x̂_{n−1} (`extrapolate`) or from latent's x̂ (the first step).

@@ -98,8 +98,8 @@ struct EulerianCandidate {
     Vec3<double> step = offset;
     solve_where_positive(F_d, offset, step);
     x.store(t, point);
-    X_guess.store(t, Vec3<float>(float(sample_X[0] + step[0]), float(sample_X[1] + step[1]),
-                                 float(sample_X[2] + step[2])));
+    X_guess.store(
+        t, Vec3<float>(float(sample_X[0] + step[0]), float(sample_X[1] + step[1]), float(sample_X[2] + step[2])));
     F_guess.store(t, F);
   }
 };
@@ -112,14 +112,13 @@ Span<const std::uint64_t> SampleNeighbourhood::near_bases(const Exec& exec, Vec3
   keys_.ensure_size(exec.backend, n);
   samples_.ensure_size(exec.backend, n);
   // Nodes below 0 hold no point's base: the engine keeps particles a cell inside the domain.
-  for_each(exec, n, KeysAroundSamples{x, inverse_dx, kNearWidth, {INT_MAX, INT_MAX, INT_MAX}, keys_.span(),
-                                      samples_.span()});
+  for_each(exec, n,
+           KeysAroundSamples{x, inverse_dx, kNearWidth, {INT_MAX, INT_MAX, INT_MAX}, keys_.span(), samples_.span()});
   return sort_near_(exec, keys_.prefix(n), samples_.prefix(n)).first;
 }
 
-Index SampleNeighbourhood::build_eulerian_points(const Exec& exec, Vec3Planes<const float> X,
-                                                 Vec3Planes<const float> x, Mat3Planes<const float> F,
-                                                 const EulerianLattice& lattice) {
+Index SampleNeighbourhood::build_eulerian_points(const Exec& exec, Vec3Planes<const float> X, Vec3Planes<const float> x,
+                                                 Mat3Planes<const float> F, const EulerianLattice& lattice) {
   const Index m = x.count();
   ROMP_CHECK(X.count() == m && F.count() == m, "the samples' X, x and F need one entry per sample");
   ROMP_CHECK(lattice.dx > 0.0f && lattice.points_per_cell >= 1, "Eulerian points need dx > 0 and ℓ >= 1");
@@ -132,9 +131,10 @@ Index SampleNeighbourhood::build_eulerian_points(const Exec& exec, Vec3Planes<co
   keys_.ensure_size(exec.backend, pairs);
   samples_.ensure_size(exec.backend, pairs);
   const int* cells_below = lattice.domain_cells;
-  for_each(exec, pairs,
-           KeysAroundSamples{x, inverse_dx, kCellsWidth, {cells_below[0], cells_below[1], cells_below[2]},
-                             keys_.span(), samples_.span()});
+  for_each(
+      exec, pairs,
+      KeysAroundSamples{
+          x, inverse_dx, kCellsWidth, {cells_below[0], cells_below[1], cells_below[2]}, keys_.span(), samples_.span()});
   const auto [cell_keys, cell_samples] = sort_cells_(exec, keys_.prefix(pairs), samples_.prefix(pairs));
   flags_.ensure_size(exec.backend, pairs);
   chosen_.ensure_size(exec.backend, pairs);

@@ -27,9 +27,9 @@ namespace romp::rom {
 
 struct EulerianLattice {
   float dx = 0.0f;
-  int points_per_cell = 2;        // ℓ, per axis
+  int points_per_cell = 2;          // ℓ, per axis
   int domain_cells[3] = {0, 0, 0};  // cells outside [0, domain_cells) get no points
-  bool prune = true;              // keep only the points whose base node is near a sample
+  bool prune = true;                // keep only the points whose base node is near a sample
 };
 
 class SampleNeighbourhood {

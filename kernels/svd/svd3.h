@@ -60,7 +60,7 @@ struct Svd3Config<float> {
 template <>
 struct Svd3Config<double> {
   static constexpr int kJacobiSweeps = 7;
-  static constexpr double kNegligible = 5.5271478752604446e-76;  // 2^-250: ≪ ε = 1.1e-16, and 2^-1000 is normal
+  static constexpr double kNegligible = 5.5271478752604446e-76;       // 2^-250: ≪ ε = 1.1e-16, and 2^-1000 is normal
   static constexpr double kGradientGapFloor = 1.4901161193847656e-8;  // 2^-26
 };
 
@@ -155,9 +155,9 @@ template <class T>
 ROMP_MATH_INLINE Mat3<T> rotation_matrix(Quaternion<T> q) {
   const T scale = math::rsqrt(q.w * q.w + q.v[0] * q.v[0] + q.v[1] * q.v[1] + q.v[2] * q.v[2]);
   const T w = q.w * scale, x = q.v[0] * scale, y = q.v[1] * scale, z = q.v[2] * scale;
-  return Mat3<T>(T(1) - T(2) * (y * y + z * z), T(2) * (x * y - w * z), T(2) * (x * z + w * y),
-                 T(2) * (x * y + w * z), T(1) - T(2) * (x * x + z * z), T(2) * (y * z - w * x),
-                 T(2) * (x * z - w * y), T(2) * (y * z + w * x), T(1) - T(2) * (x * x + y * y));
+  return Mat3<T>(T(1) - T(2) * (y * y + z * z), T(2) * (x * y - w * z), T(2) * (x * z + w * y), T(2) * (x * y + w * z),
+                 T(1) - T(2) * (x * x + z * z), T(2) * (y * z - w * x), T(2) * (x * z - w * y), T(2) * (y * z + w * x),
+                 T(1) - T(2) * (x * x + y * y));
 }
 
 // When `condition` holds, columns (i, j) of M become (column j, -column i): a swap that keeps det M.

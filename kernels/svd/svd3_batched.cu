@@ -70,8 +70,7 @@ void check_count(const char* operation, const char* view, Index count, Index exp
 }
 
 template <class T>
-void svd3_batched_impl(const Exec& exec, Mat3Planes<const T> F, Mat3Planes<T> U, Vec3Planes<T> sigma,
-                       Mat3Planes<T> V) {
+void svd3_batched_impl(const Exec& exec, Mat3Planes<const T> F, Mat3Planes<T> U, Vec3Planes<T> sigma, Mat3Planes<T> V) {
   const Index n = F.count();
   check_count("svd3_batched", "U", U.count(), n);
   check_count("svd3_batched", "sigma", sigma.count(), n);

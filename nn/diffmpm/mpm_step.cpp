@@ -1,4 +1,5 @@
-// DiffMpm::step: shape, dtype and device checks, then romp::diffmpm's forward and adjoint kernels inside a torch::autograd::Function.
+// DiffMpm::step: shape, dtype and device checks, then romp::diffmpm's forward and adjoint kernels inside a
+// torch::autograd::Function.
 #include "nn/diffmpm/mpm_step.h"
 
 #include <string>
@@ -65,7 +66,8 @@ romp::diffmpm::ParticleInputs<T> particle_inputs(const variable_list& in, const 
 }
 
 torch::Tensor grid_scratch(const DiffMpmConfig& config, const torch::Tensor& like) {
-  return torch::empty({romp::diffmpm::kDenseGridPlanes * romp::diffmpm::dense_grid_nodes(config.domain_cells.data())}, like.options());
+  return torch::empty({romp::diffmpm::kDenseGridPlanes * romp::diffmpm::dense_grid_nodes(config.domain_cells.data())},
+                      like.options());
 }
 
 class MpmStepFunction : public torch::autograd::Function<MpmStepFunction> {
@@ -84,10 +86,10 @@ class MpmStepFunction : public torch::autograd::Function<MpmStepFunction> {
       using T = decltype(scalar);
       const Exec exec = exec_for(mass);
       torch::Tensor scratch = grid_scratch(config, mass);
-      romp::diffmpm::step_forward(exec, step_params<T>(config), particle_inputs<T>(in, exec),
-                            as_span<T>(scratch, exec, "grid"),
-                            romp::diffmpm::StateView<T>{vectors<T>(out[0], exec, "x'"), vectors<T>(out[1], exec, "v'"),
-                                                  matrices<T>(out[2], exec, "C'"), matrices<T>(out[3], exec, "F'")});
+      romp::diffmpm::step_forward(
+          exec, step_params<T>(config), particle_inputs<T>(in, exec), as_span<T>(scratch, exec, "grid"),
+          romp::diffmpm::StateView<T>{vectors<T>(out[0], exec, "x'"), vectors<T>(out[1], exec, "v'"),
+                                      matrices<T>(out[2], exec, "C'"), matrices<T>(out[3], exec, "F'")});
     });
     ctx->saved_data["config"] = c10::IValue::make_capsule(capsule);
     ctx->save_for_backward(in);
@@ -119,10 +121,10 @@ class MpmStepFunction : public torch::autograd::Function<MpmStepFunction> {
           matrices<T>(in_gradients[2], exec, "dL/dC"), matrices<T>(in_gradients[3], exec, "dL/dF"),
           matrices<T>(in_gradients[4], exec, "dL/dP")};
       romp::diffmpm::step_backward(exec, step_params<T>(config), particle_inputs<T>(in, exec),
-                             as_span<T>(scratch, exec, "grid"), out_adjoint, in_adjoint);
+                                   as_span<T>(scratch, exec, "grid"), out_adjoint, in_adjoint);
     });
-    return {torch::Tensor(), in_gradients[0], in_gradients[1], in_gradients[2], in_gradients[3], in_gradients[4],
-            torch::Tensor(), torch::Tensor()};
+    return {torch::Tensor(), in_gradients[0], in_gradients[1], in_gradients[2],
+            in_gradients[3], in_gradients[4], torch::Tensor(), torch::Tensor()};
   }
 };
 

@@ -1,4 +1,5 @@
-// rollout(): the substep loop of Ma et al. 2023, Alg. 2, plainly or as checkpointed segments whose graphs are rebuilt during backward.
+// rollout(): the substep loop of Ma et al. 2023, Alg. 2, plainly or as checkpointed segments whose graphs are rebuilt
+// during backward.
 #include "nn/diffmpm/rollout.h"
 
 #include <algorithm>
@@ -28,7 +29,8 @@ Rollout run_steps(const DiffMpm& sim, MpmState state, const ConstitutiveLaws& la
 
 // What a checkpointed segment needs to run again in its backward pass.
 struct SegmentCapsule : torch::CustomClassHolder {
-  SegmentCapsule(const DiffMpm& sim, const ConstitutiveLaws& laws, int64_t steps) : sim(sim), laws(laws), steps(steps) {}
+  SegmentCapsule(const DiffMpm& sim, const ConstitutiveLaws& laws, int64_t steps)
+      : sim(sim), laws(laws), steps(steps) {}
   DiffMpm sim;
   ConstitutiveLaws laws;
   int64_t steps;
@@ -66,8 +68,8 @@ class SegmentFunction : public torch::autograd::Function<SegmentFunction> {
     variable_list outputs;
     {
       torch::AutoGradMode enable_grad(true);
-      const Rollout result = run_steps(segment->sim, {state[0], state[1], state[2], state[3]}, segment->laws,
-                                       segment->steps);
+      const Rollout result =
+          run_steps(segment->sim, {state[0], state[1], state[2], state[3]}, segment->laws, segment->steps);
       const MpmState& out = result.final_state;
       outputs = {result.positions, result.velocities, out.x, out.v, out.C, out.F};
     }

@@ -1,4 +1,5 @@
-// Differentiable rollouts: MPM substeps with the constitutive laws between them, optionally recomputed from checkpoints.
+// Differentiable rollouts: MPM substeps with the constitutive laws between them, optionally recomputed from
+// checkpoints.
 #pragma once
 
 #include <torch/torch.h>

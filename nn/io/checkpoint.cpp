@@ -19,7 +19,7 @@ void require_finite(const hdf5::File& file, const char* name, const std::vector<
   const auto bad = std::find_if(values.begin(), values.end(), [](float value) { return !std::isfinite(value); });
   if (bad != values.end()) {
     throw UnusableFileError(fmt::format("{}: dataset /{}: value {} of {} is {}: not a state to resume from",
-                                              file.label(), name, bad - values.begin(), values.size(), *bad));
+                                        file.label(), name, bad - values.begin(), values.size(), *bad));
   }
 }
 
@@ -45,7 +45,8 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
     }
     if (!checkpoint.corner_x.empty()) {
       if (checkpoint.corner_x.size() % 3 != 0)
-        throw Error(fmt::format("checkpoint {}: corner_x has {} values, not 3 planes", path, checkpoint.corner_x.size()));
+        throw Error(
+            fmt::format("checkpoint {}: corner_x has {} values, not 3 planes", path, checkpoint.corner_x.size()));
       if (checkpoint.particle_domain.size() != n)
         throw Error(fmt::format("checkpoint {}: particle_domain has {} entries for {} particles", path,
                                 checkpoint.particle_domain.size(), n));
@@ -73,9 +74,8 @@ Checkpoint read_checkpoint(const std::string& path) {
   // A run writes a checkpoint only after a finite frame: anything else is not a state to resume from.
   if (!std::isfinite(checkpoint.state.time) || checkpoint.state.time < 0.0 || checkpoint.frame < 0 ||
       checkpoint.state.step < 0) {
-    throw UnusableFileError(fmt::format("{}: time {}, frame {}, step {}: not a state a run writes",
-                                              file.label(), checkpoint.state.time, checkpoint.frame,
-                                              checkpoint.state.step));
+    throw UnusableFileError(fmt::format("{}: time {}, frame {}, step {}: not a state a run writes", file.label(),
+                                        checkpoint.state.time, checkpoint.frame, checkpoint.state.step));
   }
   if (file.is_dataset("corner_x")) {
     const hdf5::Shape shape = file.dataset_shape("corner_x");

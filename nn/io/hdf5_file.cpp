@@ -350,8 +350,8 @@ std::vector<T> Group::read_dataset(const std::string& path, const Shape& expecte
   Handle type(H5Dget_type(dataset.id()), H5Tclose);
   const H5T_class_t stored = H5Tget_class(type.id());
   if (stored != element_class<T>()) {
-    fail("dataset", path, std::string("holds ") + describe_class(stored) + ", expected " +
-                              describe_class(element_class<T>()));
+    fail("dataset", path,
+         std::string("holds ") + describe_class(stored) + ", expected " + describe_class(element_class<T>()));
   }
   if (shape != expected) fail("dataset", path, "shape " + describe(shape) + ", expected " + describe(expected));
   std::uint64_t count = 1;
@@ -367,14 +367,16 @@ std::vector<T> Group::read_dataset(const std::string& path, const Shape& expecte
         fail("dataset", path, "its chunk shape is unreadable: damaged");
       for (std::size_t axis = 0; axis < chunk.size(); ++axis) {
         if (chunk[axis] == 0 || chunk[axis] > std::max<hsize_t>(shape[axis], 1)) {
-          fail("dataset", path, "chunk shape " + describe(Shape(chunk.begin(), chunk.end())) + " exceeds shape " +
-                                    describe(shape) + ": damaged");
+          fail("dataset", path,
+               "chunk shape " + describe(Shape(chunk.begin(), chunk.end())) + " exceeds shape " + describe(shape) +
+                   ": damaged");
         }
       }
     }
     const hsize_t stored = H5Dget_storage_size(dataset.id());
     if (stored > 2 * bytes + (std::uint64_t(1) << 20))
-      fail("dataset", path, std::to_string(stored) + " bytes stored for " + std::to_string(bytes) + " of data: damaged");
+      fail("dataset", path,
+           std::to_string(stored) + " bytes stored for " + std::to_string(bytes) + " of data: damaged");
   }
   std::vector<T> values(count);
   if (count > 0 && H5Dread(dataset.id(), memory_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0) {

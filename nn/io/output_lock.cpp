@@ -43,12 +43,14 @@ OutputLock::OutputLock(const std::string& output) : path_(output + ".lock") {
       close(fd_);
       fd_ = -1;
       if (error == EWOULDBLOCK)
-        throw Error(fmt::format("{} is being written by {} (it holds {}); wait for that run to end, or write to "
-                                "another file with -o",
-                                output, who, path_));
+        throw Error(
+            fmt::format("{} is being written by {} (it holds {}); wait for that run to end, or write to "
+                        "another file with -o",
+                        output, who, path_));
       throw Error(fmt::format("{}: cannot lock: {}", path_, std::strerror(error)));
     }
-    struct stat locked {}, named {};
+    struct stat locked {
+    }, named{};
     if (fstat(fd_, &locked) == 0 && stat(path_.c_str(), &named) == 0 && locked.st_ino == named.st_ino &&
         locked.st_dev == named.st_dev)
       break;

@@ -49,9 +49,10 @@ const std::vector<float>& FrameData::field(FieldMask bit) const {
 void SnapshotHeader::validate() const {
   const std::size_t n = mass.size();
   if (X.size() != 3 * n || volume0.size() != n || material.size() != n) {
-    throw Error(fmt::format("snapshot header: {} masses but {} reference-position values (3 planes), {} volumes and "
-                            "{} material ids",
-                            n, X.size(), volume0.size(), material.size()));
+    throw Error(
+        fmt::format("snapshot header: {} masses but {} reference-position values (3 planes), {} volumes and "
+                    "{} material ids",
+                    n, X.size(), volume0.size(), material.size()));
   }
   if (parameter_names.size() != parameter_values.size()) {
     throw Error(fmt::format("snapshot header: {} parameter names but {} values", parameter_names.size(),

@@ -39,8 +39,8 @@ struct FieldInfo {
   const char* name;  // dataset name in a frame group
   int components;    // 3 for vectors, 9 for 3x3 matrices
 };
-inline constexpr std::array<FieldInfo, 4> kFieldInfos{{{kFieldX, "x", 3}, {kFieldV, "v", 3}, {kFieldF, "F", 9},
-                                                       {kFieldC, "C", 9}}};
+inline constexpr std::array<FieldInfo, 4> kFieldInfos{
+    {{kFieldX, "x", 3}, {kFieldV, "v", 3}, {kFieldF, "F", 9}, {kFieldC, "C", 9}}};
 
 // The mask of field names ("x", "v", "F", "C", as a scene's output.fields lists them), with x added.
 FieldMask parse_fields(const std::vector<std::string>& names);
@@ -50,8 +50,8 @@ std::vector<std::string> field_names(FieldMask fields);
 // One frame in engine layout: component-major planes (x = [x0..xn-1, y0..yn-1, z0..zn-1], matrices as
 // nine planes, plane 3*row+col), particles in their initial order. A field not selected stays empty.
 struct FrameData {
-  double time = 0.0;     // s
-  std::int64_t step = 0; // substeps taken so far
+  double time = 0.0;      // s
+  std::int64_t step = 0;  // substeps taken so far
   std::vector<float> x, v, F, C;
 
   std::vector<float>& field(FieldMask bit);

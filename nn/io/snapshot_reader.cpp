@@ -28,7 +28,7 @@ SnapshotReader::SnapshotReader(const std::string& path) : file_(open_versioned_f
   header_.parameter_values = file_.read_doubles_attribute("parameter_values");
   if (header_.parameter_names.size() != header_.parameter_values.size()) {
     throw UnusableFileError(fmt::format("{}: {} parameter_names but {} parameter_values", file_.label(),
-                                              header_.parameter_names.size(), header_.parameter_values.size()));
+                                        header_.parameter_names.size(), header_.parameter_values.size()));
   }
   header_.X = rows_to_planes(file_.read_dataset<float>("/particles/X", {count, 3}), 3);
   header_.mass = file_.read_dataset<float>("/particles/mass", {count});

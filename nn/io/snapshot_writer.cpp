@@ -144,8 +144,8 @@ SnapshotWriter SnapshotWriter::resume(std::string path, const SnapshotHeader& he
       throw Error(label + ": was written with other parameter values; remove it to start over");
     }
     if (frame_count < 0 || frame_count > reader.frame_count()) {
-      throw Error(fmt::format("{}: holds {} complete frames, the resume needs {}", label, reader.frame_count(),
-                              frame_count));
+      throw Error(
+          fmt::format("{}: holds {} complete frames, the resume needs {}", label, reader.frame_count(), frame_count));
     }
     times.assign(reader.frame_times().begin(), reader.frame_times().begin() + frame_count);
   }

@@ -15,14 +15,14 @@ hdf5::File open_versioned_file(const std::string& path, const FileFormat& format
   }
   const std::string name = file.read_string_attribute("format");
   if (name != format.name) {
-    throw UnusableFileError(fmt::format("{}: not {}: root attribute format is \"{}\", expected \"{}\"",
-                                              file.label(), format.description, name, format.name));
+    throw UnusableFileError(fmt::format("{}: not {}: root attribute format is \"{}\", expected \"{}\"", file.label(),
+                                        format.description, name, format.name));
   }
   const std::int64_t version = file.read_int64_attribute("format_version");
   if (version < 1 || version > format.version) {
-    throw UnusableFileError(fmt::format("{}: format_version {} is not one this romp reads (1 .. {}){}",
-                                              file.label(), version, format.version,
-                                              version > format.version ? "; a newer romp wrote it" : ""));
+    throw UnusableFileError(fmt::format("{}: format_version {} is not one this romp reads (1 .. {}){}", file.label(),
+                                        version, format.version,
+                                        version > format.version ? "; a newer romp wrote it" : ""));
   }
   return file;
 }

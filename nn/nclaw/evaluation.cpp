@@ -7,8 +7,8 @@
 
 namespace romp::nn::nclaw {
 
-double position_error(const diffmpm::DiffMpm& sim, const Trajectory& truth, const diffmpm::ConstitutiveLaws& laws, int64_t steps,
-                      int64_t every) {
+double position_error(const diffmpm::DiffMpm& sim, const Trajectory& truth, const diffmpm::ConstitutiveLaws& laws,
+                      int64_t steps, int64_t every) {
   ROMP_CHECK(every > 0 && every <= steps, "position error: frame stride must be in [1, steps = " +
                                               std::to_string(steps) + "], got " + std::to_string(every));
   truth.require_steps(steps, "position error");

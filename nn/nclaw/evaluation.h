@@ -14,7 +14,7 @@ inline constexpr int64_t kEvaluationFrameStride = 5;
 
 // The mean over frames every, 2 every, … ≤ steps of MSE(x, x_gt) (over particles and axes) of a
 // rollout of `laws` from frame 0 of `truth`, without teacher forcing and without gradients.
-double position_error(const diffmpm::DiffMpm& sim, const Trajectory& truth, const diffmpm::ConstitutiveLaws& laws, int64_t steps,
-                      int64_t every = kEvaluationFrameStride);
+double position_error(const diffmpm::DiffMpm& sim, const Trajectory& truth, const diffmpm::ConstitutiveLaws& laws,
+                      int64_t steps, int64_t every = kEvaluationFrameStride);
 
 }  // namespace romp::nn::nclaw

@@ -16,14 +16,16 @@ class StretchRotationFunction : public torch::autograd::Function<StretchRotation
   static variable_list forward(AutogradContext* ctx, const torch::Tensor& planes) {
     const torch::Tensor F = planes.contiguous();
     const Svd3Tensors svd = svd3(F);
-    const torch::Tensor R = matrices_to_planes(torch::bmm(planes_to_matrices(svd.U), planes_to_matrices(svd.V).transpose(1, 2)));
+    const torch::Tensor R =
+        matrices_to_planes(torch::bmm(planes_to_matrices(svd.U), planes_to_matrices(svd.V).transpose(1, 2)));
     ctx->save_for_backward({F, svd.U, svd.S, svd.V});
     // A positive diagonal F, above all the rest state F = I every simulation starts from, has the
     // exact decomposition σ = its diagonal sorted, R = I. romp's SVD is accurate to a few ulp only
     // (approximate rsqrt, a fixed Jacobi angle for equal diagonal entries), and the laws are
     // stress-free at rest only if σ − 1 is exactly 0 there. The backward pass keeps the SVD's terms.
     const torch::Tensor diagonal = F.index_select(0, torch::tensor({0, 4, 8}, torch::kLong).to(F.device()));
-    const torch::Tensor off_diagonal = F.index_select(0, torch::tensor({1, 2, 3, 5, 6, 7}, torch::kLong).to(F.device()));
+    const torch::Tensor off_diagonal =
+        F.index_select(0, torch::tensor({1, 2, 3, 5, 6, 7}, torch::kLong).to(F.device()));
     const torch::Tensor exact = (off_diagonal == 0).all(0) & (diagonal > 0).all(0);
     const torch::Tensor identity = torch::eye(3, F.options()).reshape({9, 1});
     return {torch::where(exact, std::get<0>(diagonal.sort(0, /*descending=*/true)), svd.S),
@@ -42,7 +44,8 @@ class StretchRotationFunction : public torch::autograd::Function<StretchRotation
 }  // namespace
 
 torch::Tensor planes_to_matrices(const torch::Tensor& planes) {
-  ROMP_CHECK(planes.dim() == 2 && planes.size(0) == 9, "planes_to_matrices: expected [9, n], got " + c10::str(planes.sizes()));
+  ROMP_CHECK(planes.dim() == 2 && planes.size(0) == 9,
+             "planes_to_matrices: expected [9, n], got " + c10::str(planes.sizes()));
   return planes.t().reshape({-1, 3, 3}).contiguous();
 }
 

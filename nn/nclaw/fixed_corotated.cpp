@@ -5,7 +5,8 @@
 
 namespace romp::nn::nclaw {
 
-torch::Tensor fixed_corotated_stress(const torch::Tensor& F, const torch::Tensor& youngs, const torch::Tensor& poisson) {
+torch::Tensor fixed_corotated_stress(const torch::Tensor& F, const torch::Tensor& youngs,
+                                     const torch::Tensor& poisson) {
   const torch::Tensor mu = youngs / (2.0 * (1.0 + poisson));
   const torch::Tensor lambda = youngs * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson));
   const torch::Tensor matrices = planes_to_matrices(F);

@@ -1,4 +1,5 @@
-// Fixed corotated elasticity in LibTorch, differentiable in F, E and ν: the analytic law for gradient checks and oracles.
+// Fixed corotated elasticity in LibTorch, differentiable in F, E and ν: the analytic law for gradient checks and
+// oracles.
 #pragma once
 
 #include <torch/torch.h>

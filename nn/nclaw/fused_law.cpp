@@ -14,8 +14,8 @@ using torch::autograd::AutogradContext;
 using torch::autograd::variable_list;
 
 template <class T>
-romp::nclaw::LawWeights<T> weights_of(const torch::Tensor& input, const torch::Tensor& hidden, const torch::Tensor& output,
-                                const Exec& exec) {
+romp::nclaw::LawWeights<T> weights_of(const torch::Tensor& input, const torch::Tensor& hidden,
+                                      const torch::Tensor& output, const Exec& exec) {
   return {as_span<const T>(input, exec, "law input weight").data(),
           as_span<const T>(hidden, exec, "law hidden weight").data(),
           as_span<const T>(output, exec, "law output weight").data()};
@@ -28,9 +28,9 @@ Mat3Planes<T> planes_of(const torch::Tensor& tensor, const Exec& exec, const std
 
 class FusedLawFunction : public torch::autograd::Function<FusedLawFunction> {
  public:
-  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& deformation, const torch::Tensor& input_weight,
-                               const torch::Tensor& hidden_weight, const torch::Tensor& output_weight, double scale,
-                               bool adds_input) {
+  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& deformation,
+                               const torch::Tensor& input_weight, const torch::Tensor& hidden_weight,
+                               const torch::Tensor& output_weight, double scale, bool adds_input) {
     const torch::Tensor F = deformation.contiguous(), input = input_weight.contiguous(),
                         hidden = hidden_weight.contiguous(), output = output_weight.contiguous();
     torch::Tensor Y = torch::empty_like(F);
@@ -38,7 +38,7 @@ class FusedLawFunction : public torch::autograd::Function<FusedLawFunction> {
       using T = decltype(scalar);
       const Exec exec = exec_for(F);
       romp::nclaw::law_forward<T>(exec, weights_of<T>(input, hidden, output, exec), {T(scale), adds_input},
-                            planes_of<const T>(F, exec, "neural law F"), planes_of<T>(Y, exec, "neural law Y"));
+                                  planes_of<const T>(F, exec, "neural law F"), planes_of<T>(Y, exec, "neural law Y"));
     });
     ctx->save_for_backward({F, input, hidden, output});
     ctx->saved_data["scale"] = scale;
@@ -60,12 +60,13 @@ class FusedLawFunction : public torch::autograd::Function<FusedLawFunction> {
       using T = decltype(scalar);
       const Exec exec = exec_for(F);
       const romp::nclaw::LawGradients<T> out{planes_of<T>(dF, exec, "neural law dF"),
-                                       as_span<T>(d_input, exec, "law input weight gradient").data(),
-                                       as_span<T>(d_hidden, exec, "law hidden weight gradient").data(),
-                                       as_span<T>(d_output, exec, "law output weight gradient").data()};
+                                             as_span<T>(d_input, exec, "law input weight gradient").data(),
+                                             as_span<T>(d_hidden, exec, "law hidden weight gradient").data(),
+                                             as_span<T>(d_output, exec, "law output weight gradient").data()};
       romp::nclaw::law_backward<T>(exec, weights_of<T>(input, hidden, output, exec), {T(scale), adds_input},
-                             planes_of<const T>(F, exec, "neural law F"), planes_of<const T>(dY, exec, "neural law dY"),
-                             as_span<T>(activations, exec, "neural law activations"), out);
+                                   planes_of<const T>(F, exec, "neural law F"),
+                                   planes_of<const T>(dY, exec, "neural law dY"),
+                                   as_span<T>(activations, exec, "neural law activations"), out);
     });
     return {dF, d_input, d_hidden, d_output, torch::Tensor(), torch::Tensor()};
   }

@@ -20,14 +20,14 @@ namespace romp::nn::nclaw {
 
 // How the laws were learned.
 struct LawTrainingRecord {
-  std::string trajectory;     // the ground-truth file
-  int64_t steps = 0;          // substeps per training rollout
-  std::vector<double> loss;   // per epoch
+  std::string trajectory;             // the ground-truth file
+  int64_t steps = 0;                  // substeps per training rollout
+  std::vector<double> loss;           // per epoch
   double reconstruction_error = 0.0;  // position_error of the final laws on the trajectory (m²)
 };
 
 struct LawFile {
-  NeuralLaws laws;            // float32 on the CPU
+  NeuralLaws laws;  // float32 on the CPU
   LawTrainingRecord training;
 };
 

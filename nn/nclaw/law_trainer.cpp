@@ -66,15 +66,15 @@ EpochReport LawTrainer::train_epoch() {
   report.epoch = epochs_done();
   report.elastic_learning_rate = cosine_anneal(options_.elastic_learning_rate, 0.0, report.epoch, options_.epochs);
   report.plastic_learning_rate = cosine_anneal(options_.plastic_learning_rate, 0.0, report.epoch, options_.epochs);
-  report.teacher_forcing_period = teacher_forcing_period(options_.teacher_forcing_first,
-                                                         options_.teacher_forcing_last, report.epoch, options_.epochs);
+  report.teacher_forcing_period = teacher_forcing_period(options_.teacher_forcing_first, options_.teacher_forcing_last,
+                                                         report.epoch, options_.epochs);
 
   elastic_optimizer_->zero_grad();
   plastic_optimizer_->zero_grad();
-  const TrajectoryLossResult loss = backpropagate_trajectory_loss(
-      sim_, truth_, laws_.constitutive(),
-      {options_.steps, report.teacher_forcing_period, options_.loss_scale, options_.checkpoint_every,
-       options_.velocity_weight});
+  const TrajectoryLossResult loss =
+      backpropagate_trajectory_loss(sim_, truth_, laws_.constitutive(),
+                                    {options_.steps, report.teacher_forcing_period, options_.loss_scale,
+                                     options_.checkpoint_every, options_.velocity_weight});
   report.loss = loss.value;
   report.forward_seconds = loss.forward_seconds;
   report.backward_seconds = loss.backward_seconds;
@@ -128,11 +128,12 @@ void LawTrainer::load_checkpoint(const std::string& path) {
     throw Error(label + ": not a readable checkpoint (" + error.what_without_backtrace() + ")");
   }
   ROMP_CHECK(options.sizes() == options_fingerprint(options_).sizes() && options.equal(options_fingerprint(options_)),
-             label + ": written with other training options (epochs, steps, learning rates, clip, loss scale, "
-                     "teacher forcing, seed, checkpoint_every or velocity weight differ)");
-  ROMP_CHECK(losses.dim() == 1 && losses.size(0) <= options_.epochs,
-             label + ": holds " + c10::str(losses.sizes()) + " losses for " + std::to_string(options_.epochs) +
-                 " epochs");
+             label +
+                 ": written with other training options (epochs, steps, learning rates, clip, loss scale, "
+                 "teacher forcing, seed, checkpoint_every or velocity weight differ)");
+  ROMP_CHECK(
+      losses.dim() == 1 && losses.size(0) <= options_.epochs,
+      label + ": holds " + c10::str(losses.sizes()) + " losses for " + std::to_string(options_.epochs) + " epochs");
   try {
     archive.read("elastic", elastic);
     archive.read("plastic", plastic);

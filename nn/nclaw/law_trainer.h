@@ -16,17 +16,17 @@ namespace romp::nn::nclaw {
 
 // The authors' protocol; every default is theirs (velocity_weight = 0 leaves their loss as it is).
 struct TrainingOptions {
-  int64_t epochs = 300;                  // one rollout each; the cosine schedules span them all
-  int64_t steps = 1000;                  // substeps per rollout (the trajectory needs steps + 1 frames)
-  double elastic_learning_rate = 1.0;    // Adam
+  int64_t epochs = 300;                // one rollout each; the cosine schedules span them all
+  int64_t steps = 1000;                // substeps per rollout (the trajectory needs steps + 1 frames)
+  double elastic_learning_rate = 1.0;  // Adam
   double plastic_learning_rate = 0.1;
-  double gradient_clip = 0.1;            // largest gradient norm, per network
-  double loss_scale = 1e4;               // loss = Σ_steps loss_scale · MSE(x, x_gt)
-  int64_t teacher_forcing_first = 25;    // restart period (substeps) at the first epoch ...
-  int64_t teacher_forcing_last = 200;    // ... rising to this one by cosine annealing
-  uint64_t seed = 0;                     // initial weights (Xavier uniform)
-  int64_t checkpoint_every = 0;          // > 0: recompute each segment from states this many substeps apart
-  double velocity_weight = 0.0;          // beyond App. D.2: the velocity penalty of App. Table 7 (TrajectoryLossOptions)
+  double gradient_clip = 0.1;          // largest gradient norm, per network
+  double loss_scale = 1e4;             // loss = Σ_steps loss_scale · MSE(x, x_gt)
+  int64_t teacher_forcing_first = 25;  // restart period (substeps) at the first epoch ...
+  int64_t teacher_forcing_last = 200;  // ... rising to this one by cosine annealing
+  uint64_t seed = 0;                   // initial weights (Xavier uniform)
+  int64_t checkpoint_every = 0;        // > 0: recompute each segment from states this many substeps apart
+  double velocity_weight = 0.0;        // beyond App. D.2: the velocity penalty of App. Table 7 (TrajectoryLossOptions)
 
   // Throws romp::Error naming the first option out of range.
   void validate() const;
@@ -34,16 +34,16 @@ struct TrainingOptions {
 
 // What one epoch did.
 struct EpochReport {
-  int64_t epoch = 0;                     // 0-based index of the epoch just trained
-  double loss = 0.0;                     // of the rollout before the update
-  double elastic_gradient_norm = 0.0;    // before clipping
+  int64_t epoch = 0;                   // 0-based index of the epoch just trained
+  double loss = 0.0;                   // of the rollout before the update
+  double elastic_gradient_norm = 0.0;  // before clipping
   double plastic_gradient_norm = 0.0;
-  double elastic_learning_rate = 0.0;    // used for this epoch's update
+  double elastic_learning_rate = 0.0;  // used for this epoch's update
   double plastic_learning_rate = 0.0;
   int64_t teacher_forcing_period = 0;
-  double seconds = 0.0;                  // wall time of the epoch: ...
-  double forward_seconds = 0.0;          // ... the rollouts and their loss graphs,
-  double backward_seconds = 0.0;         // ... their backward passes (the rest: clipping, Adam)
+  double seconds = 0.0;           // wall time of the epoch: ...
+  double forward_seconds = 0.0;   // ... the rollouts and their loss graphs,
+  double backward_seconds = 0.0;  // ... their backward passes (the rest: clipping, Adam)
 };
 
 class LawTrainer {

@@ -7,9 +7,7 @@ ElasticLawImpl::ElasticLawImpl() { register_module("core", core_); }
 
 torch::Tensor ElasticLawImpl::forward(const torch::Tensor& F) { return core_->forward(F); }
 
-PlasticLawImpl::PlasticLawImpl(double step) : step_(step) {
-  register_module("core", core_);
-}
+PlasticLawImpl::PlasticLawImpl(double step) : step_(step) { register_module("core", core_); }
 
 torch::Tensor PlasticLawImpl::forward(const torch::Tensor& F) { return core_->forward(F, step_, /*adds_input=*/true); }
 

@@ -18,9 +18,12 @@ RestStiffness rest_stiffness(const std::function<torch::Tensor(const torch::Tens
   double p_wave = 0.0, lambda = 0.0;
   for (int64_t axis = 0; axis < 3; ++axis) {
     for (int64_t b = 0; b < 3; ++b) {
-      const double slope = (P[4 * b][2 * axis].item<double>() - P[4 * b][2 * axis + 1].item<double>()) / (2.0 * kStrain);
-      if (b == axis) p_wave += slope / 3.0;
-      else lambda += slope / 6.0;
+      const double slope =
+          (P[4 * b][2 * axis].item<double>() - P[4 * b][2 * axis + 1].item<double>()) / (2.0 * kStrain);
+      if (b == axis)
+        p_wave += slope / 3.0;
+      else
+        lambda += slope / 6.0;
     }
   }
   return {0.5 * (p_wave - lambda), lambda};

@@ -55,8 +55,7 @@ SupervisedLosses fit_supervised(NeuralLaws& laws, const ConstitutivePairs& pairs
   SupervisedLosses losses;
   for (int64_t epoch = 0; epoch < options.epochs; ++epoch) {
     if (elastic) {
-      set_learning_rate(elastic_optimizer,
-                        cosine_anneal(options.elastic_learning_rate, 0.0, epoch, options.epochs));
+      set_learning_rate(elastic_optimizer, cosine_anneal(options.elastic_learning_rate, 0.0, epoch, options.epochs));
       elastic_optimizer.zero_grad();
       const torch::Tensor loss = relative_mse(laws.elastic->forward(pairs.F), pairs.P, pairs.P);
       loss.backward();
@@ -65,11 +64,10 @@ SupervisedLosses fit_supervised(NeuralLaws& laws, const ConstitutivePairs& pairs
       losses.elastic.push_back(loss.item<double>());
     }
     if (plastic) {
-      set_learning_rate(plastic_optimizer,
-                        cosine_anneal(options.plastic_learning_rate, 0.0, epoch, options.epochs));
+      set_learning_rate(plastic_optimizer, cosine_anneal(options.plastic_learning_rate, 0.0, epoch, options.epochs));
       plastic_optimizer.zero_grad();
-      const torch::Tensor loss = relative_mse(laws.plastic->forward(pairs.F_trial), pairs.F_projected,
-                                              pairs.F_projected - pairs.F_trial);
+      const torch::Tensor loss =
+          relative_mse(laws.plastic->forward(pairs.F_trial), pairs.F_projected, pairs.F_projected - pairs.F_trial);
       loss.backward();
       torch::nn::utils::clip_grad_norm_(laws.plastic->parameters(), options.gradient_clip);
       plastic_optimizer.step();

@@ -22,10 +22,10 @@ struct ConstitutivePairs {
 void add_plastic_pairs(const Trajectory& truth, double dt, ConstitutivePairs& pairs);
 
 struct SupervisedOptions {
-  int64_t epochs = 300;                 // full-batch Adam steps, cosine-annealed
-  double elastic_learning_rate = 1.0;   // the motion training's rates (App. D.2)
+  int64_t epochs = 300;                // full-batch Adam steps, cosine-annealed
+  double elastic_learning_rate = 1.0;  // the motion training's rates (App. D.2)
   double plastic_learning_rate = 0.1;
-  double gradient_clip = 0.1;           // per network
+  double gradient_clip = 0.1;  // per network
 };
 
 struct SupervisedLosses {

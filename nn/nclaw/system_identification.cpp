@@ -17,8 +17,8 @@ void SystemIdentificationOptions::validate() const {
   ROMP_CHECK(teacher_forcing_first > 0 && teacher_forcing_last > 0,
              "system identification: teacher-forcing periods must be positive");
   ROMP_CHECK(loss_scale > 0.0, "system identification: loss_scale must be positive");
-  ROMP_CHECK(initial_youngs > 0.0, "system identification: initial_youngs must be positive (Pa), got " +
-                                       std::to_string(initial_youngs));
+  ROMP_CHECK(initial_youngs > 0.0,
+             "system identification: initial_youngs must be positive (Pa), got " + std::to_string(initial_youngs));
   ROMP_CHECK(initial_poisson > 0.0 && initial_poisson < 0.5,
              "system identification: initial_poisson must be in (0, 0.5), got " + std::to_string(initial_poisson));
 }
@@ -32,8 +32,8 @@ SystemIdentification::SystemIdentification(const diffmpm::DiffMpmConfig& config,
   const auto scalar = truth_.mass.options().requires_grad(true);
   log_youngs_ = torch::tensor(std::log(options_.initial_youngs), scalar);
   // logit(2ν): the inverse of ν = sigmoid(·) / 2.
-  poisson_logit_ = torch::tensor(std::log(2.0 * options_.initial_poisson / (1.0 - 2.0 * options_.initial_poisson)),
-                                 scalar);
+  poisson_logit_ =
+      torch::tensor(std::log(2.0 * options_.initial_poisson / (1.0 - 2.0 * options_.initial_poisson)), scalar);
   optimizer_ = std::make_unique<torch::optim::Adam>(std::vector<torch::Tensor>{log_youngs_, poisson_logit_},
                                                     torch::optim::AdamOptions(options_.learning_rate));
 }
@@ -50,17 +50,17 @@ double SystemIdentification::train_epoch() {
     static_cast<torch::optim::AdamOptions&>(group.options())
         .lr(cosine_anneal(options_.learning_rate, 0.0, epoch, options_.epochs));
   optimizer_->zero_grad();
-  const diffmpm::ConstitutiveLaws law{[this](const torch::Tensor& F) {
-                               return fixed_corotated_stress(F, youngs_tensor(), poisson_tensor());
-                             },
-                             {},
-                             {log_youngs_, poisson_logit_}};
-  const double loss = backpropagate_trajectory_loss(
-      sim_, truth_, law,
-      {options_.steps,
-       teacher_forcing_period(options_.teacher_forcing_first, options_.teacher_forcing_last, epoch, options_.epochs),
-       options_.loss_scale, 0})
-                          .value;
+  const diffmpm::ConstitutiveLaws law{
+      [this](const torch::Tensor& F) { return fixed_corotated_stress(F, youngs_tensor(), poisson_tensor()); },
+      {},
+      {log_youngs_, poisson_logit_}};
+  const double loss =
+      backpropagate_trajectory_loss(sim_, truth_, law,
+                                    {options_.steps,
+                                     teacher_forcing_period(options_.teacher_forcing_first,
+                                                            options_.teacher_forcing_last, epoch, options_.epochs),
+                                     options_.loss_scale, 0})
+          .value;
   ROMP_CHECK(std::isfinite(loss), "system identification: the loss of epoch " + std::to_string(epoch) +
                                       " is not finite (try a smaller learning rate)");
   optimizer_->step();

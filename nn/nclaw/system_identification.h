@@ -13,14 +13,14 @@
 namespace romp::nn::nclaw {
 
 struct SystemIdentificationOptions {
-  int64_t epochs = 100;                  // one rollout each; the cosine schedules span them all
-  int64_t steps = 1000;                  // substeps per rollout
-  double learning_rate = 0.3;            // Adam, on log E and logit(2ν)
-  int64_t teacher_forcing_first = 25;    // as TrainingOptions
+  int64_t epochs = 100;                // one rollout each; the cosine schedules span them all
+  int64_t steps = 1000;                // substeps per rollout
+  double learning_rate = 0.3;          // Adam, on log E and logit(2ν)
+  int64_t teacher_forcing_first = 25;  // as TrainingOptions
   int64_t teacher_forcing_last = 200;
   double loss_scale = 1e4;
-  double initial_youngs = 1e5;           // Pa
-  double initial_poisson = 0.25;         // in (0, 0.5)
+  double initial_youngs = 1e5;    // Pa
+  double initial_poisson = 0.25;  // in (0, 0.5)
 
   // Throws romp::Error naming the first option out of range.
   void validate() const;
@@ -28,14 +28,15 @@ struct SystemIdentificationOptions {
 
 class SystemIdentification {
  public:
-  SystemIdentification(const diffmpm::DiffMpmConfig& config, Trajectory truth, const SystemIdentificationOptions& options);
+  SystemIdentification(const diffmpm::DiffMpmConfig& config, Trajectory truth,
+                       const SystemIdentificationOptions& options);
 
   // One rollout with teacher forcing and one Adam step; returns the loss before the step.
   double train_epoch();
 
   int64_t epochs_done() const { return epochs_done_; }
   bool finished() const { return epochs_done_ >= options_.epochs; }
-  double youngs() const;   // Pa
+  double youngs() const;  // Pa
   double poisson() const;
 
  private:

@@ -38,7 +38,8 @@ Trajectory Trajectory::to(const torch::Device& device, torch::ScalarType dtype) 
   return {convert(mass), convert(volume), convert(x), convert(v), convert(C), convert(F)};
 }
 
-Trajectory simulate(const diffmpm::DiffMpm& sim, const diffmpm::MpmState& initial, const diffmpm::ConstitutiveLaws& laws, int64_t steps) {
+Trajectory simulate(const diffmpm::DiffMpm& sim, const diffmpm::MpmState& initial,
+                    const diffmpm::ConstitutiveLaws& laws, int64_t steps) {
   torch::NoGradGuard no_grad;
   std::vector<torch::Tensor> x{initial.x}, v{initial.v}, C{initial.C}, F{initial.F};
   diffmpm::MpmState state = initial;

@@ -28,6 +28,7 @@ struct Trajectory {
 
 // The trajectory of `steps` substeps from `initial` under `laws`, without gradients: ground truth
 // from a known law (tests, benchmarks, the oracles), or a learned law's prediction.
-Trajectory simulate(const diffmpm::DiffMpm& sim, const diffmpm::MpmState& initial, const diffmpm::ConstitutiveLaws& laws, int64_t steps);
+Trajectory simulate(const diffmpm::DiffMpm& sim, const diffmpm::MpmState& initial,
+                    const diffmpm::ConstitutiveLaws& laws, int64_t steps);
 
 }  // namespace romp::nn::nclaw

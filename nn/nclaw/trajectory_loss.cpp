@@ -11,7 +11,8 @@
 namespace romp::nn::nclaw {
 
 TrajectoryLossResult backpropagate_trajectory_loss(const diffmpm::DiffMpm& sim, const Trajectory& truth,
-                                                   const diffmpm::ConstitutiveLaws& laws, const TrajectoryLossOptions& options) {
+                                                   const diffmpm::ConstitutiveLaws& laws,
+                                                   const TrajectoryLossOptions& options) {
   ROMP_CHECK(options.teacher_forcing_period > 0, "trajectory loss: teacher_forcing_period must be positive, got " +
                                                      std::to_string(options.teacher_forcing_period));
   ROMP_CHECK(options.velocity_weight >= 0.0,

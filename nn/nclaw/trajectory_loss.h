@@ -12,10 +12,10 @@
 namespace romp::nn::nclaw {
 
 struct TrajectoryLossOptions {
-  int64_t steps = 1000;                  // substeps compared with frames 1 .. steps
-  int64_t teacher_forcing_period = 25;   // the rollout restarts from the ground truth this often
-  double loss_scale = 1e4;               // loss = Σ_steps loss_scale · (MSE(x, x_gt) + velocity_weight · MSE(v, v_gt))
-  int64_t checkpoint_every = 0;          // see diffmpm::RolloutOptions
+  int64_t steps = 1000;                 // substeps compared with frames 1 .. steps
+  int64_t teacher_forcing_period = 25;  // the rollout restarts from the ground truth this often
+  double loss_scale = 1e4;       // loss = Σ_steps loss_scale · (MSE(x, x_gt) + velocity_weight · MSE(v, v_gt))
+  int64_t checkpoint_every = 0;  // see diffmpm::RolloutOptions
   // The velocity-dissimilarity penalty of the paper's App. Table 7 (s²; 0 = positions only, App. D.2).
   double velocity_weight = 0.0;
 };
@@ -33,6 +33,7 @@ struct TrajectoryLossResult {
 // read: each segment goes backward as soon as its loss is known (no gradient crosses a restart),
 // so only one segment's graph is held at a time.
 TrajectoryLossResult backpropagate_trajectory_loss(const diffmpm::DiffMpm& sim, const Trajectory& truth,
-                                                   const diffmpm::ConstitutiveLaws& laws, const TrajectoryLossOptions& options);
+                                                   const diffmpm::ConstitutiveLaws& laws,
+                                                   const TrajectoryLossOptions& options);
 
 }  // namespace romp::nn::nclaw

@@ -11,7 +11,8 @@ std::string normalisation_problem(const MapNormalisation& n) {
   const std::pair<const char*, const torch::Tensor*> parts[] = {
       {"X_min", &n.X_min}, {"X_max", &n.X_max}, {"u_mean", &n.u_mean}, {"u_std", &n.u_std}};
   for (const auto& [name, tensor] : parts) {
-    if (!tensor->defined() || tensor->dim() != 1 || tensor->size(0) != 3) return std::string(name) + " must hold 3 values";
+    if (!tensor->defined() || tensor->dim() != 1 || tensor->size(0) != 3)
+      return std::string(name) + " must hold 3 values";
     if (!torch::isfinite(*tensor).all().item<bool>()) return std::string(name) + " is not finite";
   }
   if (!(n.X_max > n.X_min).all().item<bool>()) return "the bounding box X_min .. X_max is empty in some axis";

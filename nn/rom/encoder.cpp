@@ -31,8 +31,8 @@ EncoderImpl::EncoderImpl(std::int64_t points, std::int64_t latent, const torch::
   for (std::int64_t k = 0; k < conv_layers; ++k) {
     auto conv = register_module(
         "conv_" + std::to_string(k),
-        torch::nn::Conv1d(torch::nn::Conv1dOptions(kEncoderChannels, kEncoderChannels, kEncoderKernel)
-                              .stride(kEncoderStride)));
+        torch::nn::Conv1d(
+            torch::nn::Conv1dOptions(kEncoderChannels, kEncoderChannels, kEncoderKernel).stride(kEncoderStride)));
     torch::nn::init::xavier_uniform_(conv->weight);
     torch::nn::init::zeros_(conv->bias);
     convolutions_.push_back(conv);

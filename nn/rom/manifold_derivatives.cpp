@@ -53,9 +53,8 @@ ManifoldJacobians autograd(const DeformationMapImpl& g, const torch::Tensor& xha
   std::vector<torch::Tensor> F_rows, xhat_rows;
   for (std::int64_t i = 0; i < 3; ++i) {
     const torch::Tensor component = x.select(1, i);
-    const std::vector<torch::Tensor> rows =
-        torch::autograd::grad({component}, {X_leaf, xhat_in}, {torch::ones_like(component)}, /*retain_graph=*/true,
-                              create_graph);
+    const std::vector<torch::Tensor> rows = torch::autograd::grad(
+        {component}, {X_leaf, xhat_in}, {torch::ones_like(component)}, /*retain_graph=*/true, create_graph);
     F_rows.push_back(rows[0]);
     xhat_rows.push_back(rows[1]);
   }

@@ -42,7 +42,9 @@ struct SetBuilder {
 
 nlohmann::json read_manifest(const std::string& label, const fs::path& path) {
   std::ifstream in(path);
-  if (!in) throw io::UnusableFileError(label + ": no " + path.filename().string() + " (a folder written by romp sweep holds one)");
+  if (!in)
+    throw io::UnusableFileError(label + ": no " + path.filename().string() +
+                                " (a folder written by romp sweep holds one)");
   nlohmann::json manifest;
   try {
     in >> manifest;
@@ -53,8 +55,8 @@ nlohmann::json read_manifest(const std::string& label, const fs::path& path) {
     throw io::UnusableFileError(label + ": manifest.json: format is not \"" + kSweepFormat + "\"");
   const std::int64_t version = manifest.value("format_version", std::int64_t(0));
   if (version < 1 || version > kSweepFormatVersion) {
-    throw io::UnusableFileError(label + ": manifest.json: format_version " + std::to_string(version) + " is not one this romp reads (1 .. " +
-                std::to_string(kSweepFormatVersion) + ")");
+    throw io::UnusableFileError(label + ": manifest.json: format_version " + std::to_string(version) +
+                                " is not one this romp reads (1 .. " + std::to_string(kSweepFormatVersion) + ")");
   }
   return manifest;
 }
@@ -64,7 +66,8 @@ SweepMember parse_member(const nlohmann::json& entry, const std::vector<std::str
   member.index = entry.at("index").get<std::int64_t>();
   for (const std::string& name : names) member.values.push_back(entry.at("values").at(name).get<double>());
   const std::string split = entry.at("split").get<std::string>();
-  if (split != "train" && split != "test") throw io::UnusableFileError("split is \"" + split + "\", expected \"train\" or \"test\"");
+  if (split != "train" && split != "test")
+    throw io::UnusableFileError("split is \"" + split + "\", expected \"train\" or \"test\"");
   member.test = split == "test";
   member.snapshot = entry.at("snapshot").get<std::string>();
   return member;
@@ -73,8 +76,9 @@ SweepMember parse_member(const nlohmann::json& entry, const std::vector<std::str
 // Appends every frame of one member to `set`; its reference positions must be X.
 void add_member(const std::string& path, const SnapshotFrames& frames, const torch::Tensor& X, SetBuilder& set) {
   if (!torch::equal(frames.X, X)) {
-    throw io::UnusableFileError("snapshot " + path + ": its reference positions X differ from the first member's; the ROM needs "
-                "one reference configuration for the whole sweep");
+    throw io::UnusableFileError("snapshot " + path +
+                                ": its reference positions X differ from the first member's; the ROM needs "
+                                "one reference configuration for the whole sweep");
   }
   const std::int64_t first = set.size();
   const std::int64_t count = std::int64_t(frames.times.size());
@@ -84,7 +88,8 @@ void add_member(const std::string& path, const SnapshotFrames& frames, const tor
     set.has_next.push_back(last ? 0.0f : 1.0f);
     set.dt.push_back(last ? 1.0f : float(frames.times[k + 1] - frames.times[k]));
     if (!last && !(set.dt.back() > 0.0f))
-      throw io::UnusableFileError("snapshot " + path + ": frame times do not increase at frame " + std::to_string(k + 1));
+      throw io::UnusableFileError("snapshot " + path + ": frame times do not increase at frame " +
+                                  std::to_string(k + 1));
   }
   set.x.push_back(frames.x);
   torch::Tensor velocity = torch::zeros_like(frames.x);
@@ -140,7 +145,8 @@ RomDataset load_rom_dataset(const std::string& dir, const RomDatasetOptions& opt
       throw Error(label + ": member " + std::to_string(member.index) + ": " + error.what());
     }
   }
-  if (train.x.empty()) throw io::UnusableFileError(label + ": every member is in the test split; training needs at least one");
+  if (train.x.empty())
+    throw io::UnusableFileError(label + ": every member is in the test split; training needs at least one");
 
   const std::int64_t particles = X.size(0);
   data.X = X.to(options.device);

@@ -25,7 +25,7 @@ struct SweepMember {
 // The snapshots of one split, member by member, frames in time order; P material points each, in the
 // snapshots' initial particle order.
 struct SnapshotSet {
-  torch::Tensor x;         // [S, P, 3] f32 positions (m)
+  torch::Tensor x;  // [S, P, 3] f32 positions (m)
   // [S, P, 3] f32 (x_{n+1} − x_n) / (t_{n+1} − t_n) (m/s), 0 for a last frame: the velocity the frames imply,
   // which Eq. (31)'s velocity term matches with the same difference of x̂. Not the stored v_n: frames a few
   // substeps apart make their forward difference differ from v_n by O(Δt) (13.7 % on the gravity sweep,

@@ -20,8 +20,8 @@ ReconstructionErrors reconstruction_errors(const RomModel& model, const torch::T
                                            DerivativeMethod method, std::int64_t points) {
   if (set.size() == 0) return {};
   torch::NoGradGuard no_grad;
-  const torch::Tensor chosen = torch::arange(0, X_all.size(0), evaluation_stride(X_all.size(0), points),
-                                             X_all.options().dtype(torch::kInt64));
+  const torch::Tensor chosen =
+      torch::arange(0, X_all.size(0), evaluation_stride(X_all.size(0), points), X_all.options().dtype(torch::kInt64));
   const torch::Tensor X = X_all.index_select(0, chosen);
   const std::int64_t particles = X.size(0);
   const std::int64_t chunk = std::max<std::int64_t>(1, kEvaluationRows / particles);

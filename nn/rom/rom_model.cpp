@@ -35,7 +35,8 @@ double TrainingSettings::learning_rate_at(std::int64_t epoch) const {
 std::vector<std::string> TrainingSettings::differences(const TrainingSettings& other) const {
   std::vector<std::string> found;
   const auto compare = [&](const char* name, const auto& mine, const auto& theirs) {
-    if (mine != theirs) found.push_back(std::string(name) + ": " + text(mine) + " here, " + text(theirs) + " in the other");
+    if (mine != theirs)
+      found.push_back(std::string(name) + ": " + text(mine) + " here, " + text(theirs) + " in the other");
   };
   compare("latent", architecture.latent, other.architecture.latent);
   compare("hidden layers", architecture.hidden_layers, other.architecture.hidden_layers);
@@ -75,8 +76,8 @@ RomModel initial_model(const RomDataset& data, const TrainingSettings& settings)
   const MapNormalisation normalisation = data.normalisation();
   RomModel model;
   model.map = DeformationMap(settings.architecture, normalisation);
-  model.encoder = Encoder(data.encoder_indices.size(0), settings.architecture.latent, normalisation.X_min,
-                          normalisation.X_max);
+  model.encoder =
+      Encoder(data.encoder_indices.size(0), settings.architecture.latent, normalisation.X_min, normalisation.X_max);
   model.encoder_indices = data.encoder_indices.to(torch::kCPU);
   model.training.sweep_dir = data.dir;
   model.training.parameter_names = data.parameter_names;

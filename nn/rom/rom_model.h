@@ -22,8 +22,8 @@ struct TrainingSettings {
   MapArchitecture architecture;        // latent r, hidden layers (0: the linear baseline), width
   std::int64_t encoder_points = 1000;  // Q (0: every point)
   std::int64_t epochs = 1000;
-  std::int64_t batch = 16;             // snapshots per mini-batch
-  std::int64_t points = 256;           // material points per snapshot in the loss, drawn anew each batch
+  std::int64_t batch = 16;    // snapshots per mini-batch
+  std::int64_t points = 256;  // material points per snapshot in the loss, drawn anew each batch
   std::uint64_t seed = 0;
   LossWeights loss_weights;
   double learning_rate = 1e-3;  // the first stage's

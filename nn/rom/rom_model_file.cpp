@@ -25,8 +25,8 @@ std::string object_path(const io::hdf5::Group& group, const std::string& path) {
 std::int64_t read_at_least(const io::hdf5::Group& group, const std::string& name, std::int64_t minimum) {
   const std::int64_t value = group.read_int64_attribute(name);
   if (value < minimum) {
-    throw io::UnusableFileError(group.label() + ": attribute " + object_path(group, name) + ": " + std::to_string(value) +
-                " is below " + std::to_string(minimum));
+    throw io::UnusableFileError(group.label() + ": attribute " + object_path(group, name) + ": " +
+                                std::to_string(value) + " is below " + std::to_string(minimum));
   }
   return value;
 }
@@ -34,20 +34,21 @@ std::int64_t read_at_least(const io::hdf5::Group& group, const std::string& name
 void expect_int(const io::hdf5::Group& group, const std::string& name, std::int64_t expected) {
   const std::int64_t value = group.read_int64_attribute(name);
   if (value != expected) {
-    throw io::UnusableFileError(group.label() + ": attribute " + object_path(group, name) + ": " + std::to_string(value) +
-                ", expected " + std::to_string(expected));
+    throw io::UnusableFileError(group.label() + ": attribute " + object_path(group, name) + ": " +
+                                std::to_string(value) + ", expected " + std::to_string(expected));
   }
 }
 
 void expect_string(const io::hdf5::Group& group, const std::string& name, const std::string& expected) {
   const std::string value = group.read_string_attribute(name);
   if (value != expected) {
-    throw io::UnusableFileError(group.label() + ": attribute " + object_path(group, name) + ": \"" + value + "\", expected \"" +
-                expected + "\"");
+    throw io::UnusableFileError(group.label() + ": attribute " + object_path(group, name) + ": \"" + value +
+                                "\", expected \"" + expected + "\"");
   }
 }
 
-void write_affine(io::hdf5::Group& group, const std::string& name, const torch::Tensor& weight, const torch::Tensor& bias) {
+void write_affine(io::hdf5::Group& group, const std::string& name, const torch::Tensor& weight,
+                  const torch::Tensor& bias) {
   write_tensor(group, name + "/weight", weight);
   write_tensor(group, name + "/bias", bias);
 }
@@ -99,7 +100,8 @@ DeformationMap read_map(const io::hdf5::Group& root, std::int64_t latent) {
   architecture.hidden_layers = read_at_least(group, "hidden_layers", 0);
   architecture.width = read_at_least(group, "width", 1);
   if ((kind == "linear") != (architecture.hidden_layers == 0))
-    invalid(group, "group", "kind \"" + kind + "\" with " + std::to_string(architecture.hidden_layers) + " hidden layers");
+    invalid(group, "group",
+            "kind \"" + kind + "\" with " + std::to_string(architecture.hidden_layers) + " hidden layers");
   DeformationMap map(architecture, n);
   for (std::size_t k = 0; k < map->layers().size(); ++k) {
     const std::string name = "layer_" + std::to_string(k);
@@ -124,7 +126,8 @@ void write_encoder(io::hdf5::Group& root, const RomModel& model) {
   const torch::Tensor indices = model.encoder_indices.to(torch::kCPU, torch::kInt64).contiguous();
   group.write_dataset("indices", {std::uint64_t(indices.numel())}, indices.data_ptr<std::int64_t>());
   for (std::size_t k = 0; k < encoder.convolutions().size(); ++k)
-    write_affine(group, "conv_" + std::to_string(k), encoder.convolutions()[k]->weight, encoder.convolutions()[k]->bias);
+    write_affine(group, "conv_" + std::to_string(k), encoder.convolutions()[k]->weight,
+                 encoder.convolutions()[k]->bias);
   for (std::size_t k = 0; k < encoder.linears().size(); ++k)
     write_affine(group, "linear_" + std::to_string(k), encoder.linears()[k]->weight, encoder.linears()[k]->bias);
 }
@@ -144,7 +147,8 @@ std::int64_t read_encoder(const io::hdf5::Group& root, RomModel& model) {
   const std::vector<std::int64_t> indices = group.read_dataset<std::int64_t>("indices", {std::uint64_t(points)});
   for (std::size_t i = 0; i < indices.size(); ++i) {
     if (indices[i] < 0 || indices[i] >= particles || (i > 0 && indices[i] <= indices[i - 1])) {
-      invalid(group, "group", "indices must increase within 0 .. particle_count − 1 = " + std::to_string(particles - 1));
+      invalid(group, "group",
+              "indices must increase within 0 .. particle_count − 1 = " + std::to_string(particles - 1));
     }
   }
   model.encoder_indices = torch::tensor(indices, torch::kInt64);
@@ -259,10 +263,12 @@ void write_tensor(io::hdf5::Group& group, const std::string& path, const torch::
   group.write_dataset(path, shape, values.data_ptr<float>());
 }
 
-torch::Tensor read_tensor(const io::hdf5::Group& group, const std::string& path, const std::vector<std::int64_t>& shape) {
+torch::Tensor read_tensor(const io::hdf5::Group& group, const std::string& path,
+                          const std::vector<std::int64_t>& shape) {
   std::vector<float> values = group.read_dataset<float>(path, io::hdf5::Shape(shape.begin(), shape.end()));
   for (float value : values) {
-    if (!std::isfinite(value)) throw io::UnusableFileError(group.label() + ": dataset " + object_path(group, path) + ": not finite");
+    if (!std::isfinite(value))
+      throw io::UnusableFileError(group.label() + ": dataset " + object_path(group, path) + ": not finite");
   }
   return torch::from_blob(values.data(), shape, torch::kFloat32).clone();
 }

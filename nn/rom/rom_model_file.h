@@ -52,6 +52,7 @@ RomModel read_model_groups(const io::hdf5::Group& root, const torch::Device& dev
 
 // A float32 copy of `tensor` as a dataset of its shape, and back (checked for shape and finite values).
 void write_tensor(io::hdf5::Group& group, const std::string& path, const torch::Tensor& tensor);
-torch::Tensor read_tensor(const io::hdf5::Group& group, const std::string& path, const std::vector<std::int64_t>& shape);
+torch::Tensor read_tensor(const io::hdf5::Group& group, const std::string& path,
+                          const std::vector<std::int64_t>& shape);
 
 }  // namespace romp::nn::rom

@@ -112,8 +112,9 @@ TrainResult train_rom(const RomDataset& data, const TrainOptions& options,
       // Drawn on the CPU whatever the device, so both devices see the same batches.
       const torch::Tensor points =
           torch::randint(0, data.particle_count(), {index.size(0), settings.points}, generator, torch::kInt64);
-      const LossTerms terms = rom_loss(*model.map, make_batch(model, data, encoder_inputs, index.to(device), points.to(device)),
-                                       settings.loss_weights, settings.derivatives);
+      const LossTerms terms =
+          rom_loss(*model.map, make_batch(model, data, encoder_inputs, index.to(device), points.to(device)),
+                   settings.loss_weights, settings.derivatives);
       terms.total.backward();
       adam->step(learning_rate);
       sums += torch::stack({terms.total, terms.position, terms.F, terms.velocity}).detach().to(torch::kFloat64);

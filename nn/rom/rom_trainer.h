@@ -14,7 +14,7 @@ namespace romp::nn::rom {
 
 struct TrainOptions {
   TrainingSettings settings;
-  std::int64_t report_every = 10;      // epochs between reports (there is also one after the first and the last)
+  std::int64_t report_every = 10;  // epochs between reports (there is also one after the first and the last)
   // Material points per test snapshot a report compares (evenly spaced; 0: all). The record written at the
   // end always compares every point.
   std::int64_t report_points = 256;
@@ -28,15 +28,15 @@ struct EpochReport {
   std::int64_t started_at = 0;         // epochs done when this call started (a resumed run's checkpoint)
   double learning_rate = 0.0;
   double loss = 0.0, position = 0.0, F = 0.0, velocity = 0.0;  // means over the epoch's batches: Eq. (31), its terms
-  double seconds = 0.0;                                         // since this call started
-  double epoch_seconds = 0.0;  // this epoch's mini-batches alone (no evaluation or checkpoint)
-  std::optional<ReconstructionErrors> test;                     // when the sweep has test members
+  double seconds = 0.0;                                        // since this call started
+  double epoch_seconds = 0.0;                // this epoch's mini-batches alone (no evaluation or checkpoint)
+  std::optional<ReconstructionErrors> test;  // when the sweep has test members
   std::int64_t test_points = 0, points = 0;  // material points per snapshot compared for `test`, of all
   bool checkpointed = false;
 };
 
 struct TrainResult {
-  RomModel model;  // epochs_done, and the train and test errors once finished
+  RomModel model;               // epochs_done, and the train and test errors once finished
   std::int64_t resumed_at = 0;  // epochs the checkpoint had done; 0 for a fresh start
   bool interrupted = false;     // stopped on request after epochs_done epochs, checkpoint written
 };

@@ -20,9 +20,10 @@ torch::Tensor rows(const std::vector<float>& planes, std::int64_t n, std::int64_
 SnapshotFrames read_snapshot_frames(const std::string& path) {
   const io::SnapshotReader reader(path);
   if (!(reader.fields() & io::kFieldF))
-    throw io::UnusableFileError(fmt::format("snapshot {}: attribute /fields lacks \"F\": ROM training needs x and F per frame (set "
-                            "the scene's output.fields)",
-                            path));
+    throw io::UnusableFileError(
+        fmt::format("snapshot {}: attribute /fields lacks \"F\": ROM training needs x and F per frame (set "
+                    "the scene's output.fields)",
+                    path));
   if (reader.frame_count() < 1) throw io::UnusableFileError(fmt::format("snapshot {}: no complete frame", path));
 
   const std::int64_t n = reader.particle_count();

@@ -11,10 +11,10 @@ namespace romp::nn::rom {
 
 // The complete frames of one snapshot, on the CPU, float32, particles in their initial order.
 struct SnapshotFrames {
-  torch::Tensor X;             // [P, 3] reference positions (/particles/X)
-  torch::Tensor x;             // [T, P, 3] positions
-  torch::Tensor F;             // [T, P, 3, 3], F[t][p][i][j] = F_ij
-  std::vector<double> times;   // [T] s
+  torch::Tensor X;            // [P, 3] reference positions (/particles/X)
+  torch::Tensor x;            // [T, P, 3] positions
+  torch::Tensor F;            // [T, P, 3, 3], F[t][p][i][j] = F_ij
+  std::vector<double> times;  // [T] s
 };
 
 // Reads every complete frame's x and F. Throws romp::Error naming the file (and the object) when it is

@@ -14,15 +14,16 @@
 namespace romp::test {
 
 // Particles of the global lattice of spacing dx / per_cell inside the box [low, high], at density rho.
-inline mpm::ParticleInit lattice_box(const Vec3<float>& low, const Vec3<float>& high, float dx, int per_cell, float rho) {
+inline mpm::ParticleInit lattice_box(const Vec3<float>& low, const Vec3<float>& high, float dx, int per_cell,
+                                     float rho) {
   return geometry::sample_box(low, high, geometry::SamplingSpec{geometry::SamplingMethod::Lattice, per_cell, dx}, rho);
 }
 
 // lattice_box, every particle with its lattice cell as a hexahedral domain (corners shared).
 inline mpm::ParticleInit lattice_box_with_domains(const Vec3<float>& low, const Vec3<float>& high, float dx,
                                                   int per_cell, float rho) {
-  return geometry::sample_box_with_domains(low, high, geometry::SamplingSpec{geometry::SamplingMethod::Lattice, per_cell, dx},
-                                           rho);
+  return geometry::sample_box_with_domains(
+      low, high, geometry::SamplingSpec{geometry::SamplingMethod::Lattice, per_cell, dx}, rho);
 }
 
 inline Vec3<float> plane_vector(const std::vector<float>& planes, Index count, Index p) {

@@ -32,10 +32,10 @@ inline rom::DeformationMapWeights small_nonlinear_map(float low, float size, flo
   map.hidden_layers = 1;
   map.width = kWidth;
   map.parameters.assign(std::size_t(rom::deformation_map_parameter_count(3, 1, kWidth)), 0.0f);
-  float* hidden_weight = map.parameters.data();               // [8 × 6]
-  float* hidden_bias = hidden_weight + kWidth * kInputs;      // [8]
-  float* output_weight = hidden_bias + kWidth;                // [3 × 8]
-  float* output_bias = output_weight + 3 * kWidth;            // [3]
+  float* hidden_weight = map.parameters.data();           // [8 × 6]
+  float* hidden_bias = hidden_weight + kWidth * kInputs;  // [8]
+  float* output_weight = hidden_bias + kWidth;            // [3 × 8]
+  float* output_bias = output_weight + 3 * kWidth;        // [3]
   for (int o = 0; o < 3; ++o) {
     hidden_weight[o * kInputs + o] = 1.0f;
     hidden_bias[o] = 10.0f;
@@ -43,9 +43,11 @@ inline rom::DeformationMapWeights small_nonlinear_map(float low, float size, flo
     output_bias[o] = -10.0f;
   }
   for (int unit = 3; unit < kWidth; ++unit) {
-    for (int i = 0; i < kInputs; ++i) hidden_weight[unit * kInputs + i] = 2.0f * std::sin(1.7f * float(unit * kInputs + i) + 0.3f);
+    for (int i = 0; i < kInputs; ++i)
+      hidden_weight[unit * kInputs + i] = 2.0f * std::sin(1.7f * float(unit * kInputs + i) + 0.3f);
     hidden_bias[unit] = std::cos(2.3f * float(unit));
-    for (int o = 0; o < 3; ++o) output_weight[o * kWidth + unit] = amplitude * std::sin(0.9f * float(o * kWidth + unit));
+    for (int o = 0; o < 3; ++o)
+      output_weight[o * kWidth + unit] = amplitude * std::sin(0.9f * float(o * kWidth + unit));
   }
   map.X_min = Vec3<float>::constant(low);
   map.X_scale = Vec3<float>::constant(1.0f / size);

@@ -26,11 +26,14 @@ TEST_P(StabilityCases, FinishFiniteWithBoundedEnergy) {
   EXPECT_TRUE(outcome.acceptable()) << c.name() << ": energy ratio " << outcome.energy_ratio;
 }
 
-const auto kScenarios = ::testing::Values(analysis::StabilityScenario::FreeFallBounce, analysis::StabilityScenario::CompressRelease,
-                                          analysis::StabilityScenario::ForcedInversion, analysis::StabilityScenario::Spin,
-                                          analysis::StabilityScenario::WallImpact);
-INSTANTIATE_TEST_SUITE_P(Soft, StabilityCases, ::testing::Combine(kScenarios, ::testing::Bool(), ::testing::Values(1e4)));
-INSTANTIATE_TEST_SUITE_P(Stiff, StabilityCases, ::testing::Combine(kScenarios, ::testing::Values(false), ::testing::Values(1e6)));
+const auto kScenarios =
+    ::testing::Values(analysis::StabilityScenario::FreeFallBounce, analysis::StabilityScenario::CompressRelease,
+                      analysis::StabilityScenario::ForcedInversion, analysis::StabilityScenario::Spin,
+                      analysis::StabilityScenario::WallImpact);
+INSTANTIATE_TEST_SUITE_P(Soft, StabilityCases,
+                         ::testing::Combine(kScenarios, ::testing::Bool(), ::testing::Values(1e4)));
+INSTANTIATE_TEST_SUITE_P(Stiff, StabilityCases,
+                         ::testing::Combine(kScenarios, ::testing::Values(false), ::testing::Values(1e6)));
 
 // The stiff cube, enriched, with the implicit step at 8 times the explicit cfl, through the scenarios
 // that enrich (measured: the largest share of enriched particles in one substep is 0.18 compressed,
@@ -50,7 +53,8 @@ TEST_P(ImplicitEnrichedCases, FinishFiniteWithBoundedEnergyWhileEnriched) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Stiff, ImplicitEnrichedCases,
-                         ::testing::Values(analysis::StabilityScenario::CompressRelease, analysis::StabilityScenario::ForcedInversion,
+                         ::testing::Values(analysis::StabilityScenario::CompressRelease,
+                                           analysis::StabilityScenario::ForcedInversion,
                                            analysis::StabilityScenario::WallImpact));
 
 }  // namespace

@@ -33,10 +33,10 @@ std::vector<std::string> loaded_objects_named(const std::string& part) {
   NameSearch search{part, {}};
   dl_iterate_phdr(
       [](dl_phdr_info* info, std::size_t, void* data) {
-        NameSearch& s = *static_cast<NameSearch*>(data);
-        const std::string name = info->dlpi_name != nullptr ? info->dlpi_name : "";
-        if (name.find(s.part) != std::string::npos) s.found.push_back(name);
-        return 0;
+    NameSearch& s = *static_cast<NameSearch*>(data);
+    const std::string name = info->dlpi_name != nullptr ? info->dlpi_name : "";
+    if (name.find(s.part) != std::string::npos) s.found.push_back(name);
+    return 0;
       },
       &search);
   return search.found;

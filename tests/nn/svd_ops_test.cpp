@@ -50,7 +50,8 @@ TEST(SvdOps, DecompositionReconstructsFInEnginePlaneLayout) {
 TEST(SvdOps, OutVariantWritesIntoTheGivenTensorsAndLeavesFAlone) {
   const torch::Tensor F = random_planes(torch::kFloat32);
   const torch::Tensor F_before = F.clone();
-  torch::Tensor U = torch::full({9, kCount}, -7.0f), S = torch::full({3, kCount}, -7.0f), V = torch::full({9, kCount}, -7.0f);
+  torch::Tensor U = torch::full({9, kCount}, -7.0f), S = torch::full({3, kCount}, -7.0f),
+                V = torch::full({9, kCount}, -7.0f);
   const void* U_memory = U.data_ptr();
   const void* S_memory = S.data_ptr();
   const void* V_memory = V.data_ptr();
@@ -103,9 +104,9 @@ TEST(SvdOps, UnsupportedOrMixedDtypesAreRefused) {
   const std::string message = error_of([] { svd3(torch::zeros({9, 4}, torch::kInt32)); });
   EXPECT_NE(message.find("float32 or float64"), std::string::npos) << message;
   const torch::Tensor F = random_planes(torch::kFloat32);
-  EXPECT_THROW(svd3_out(F, torch::empty({9, kCount}, torch::kFloat64), torch::empty({3, kCount}),
-                        torch::empty({9, kCount})),
-               Error);
+  EXPECT_THROW(
+      svd3_out(F, torch::empty({9, kCount}, torch::kFloat64), torch::empty({3, kCount}), torch::empty({9, kCount})),
+      Error);
 }
 
 TEST(SvdOps, NonContiguousPlanesAreRefusedNotCopied) {

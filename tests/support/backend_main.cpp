@@ -41,7 +41,8 @@ int main(int argc, char** argv) {
     } else if (argument == "--backend=guarded") {
       romp::memory::enable_guard();
     } else if (argument != "--backend=cpu") {
-      std::cerr << "unknown argument '" << argument << "'; expected --backend=cpu, --backend=guarded or --backend=cuda\n";
+      std::cerr << "unknown argument '" << argument
+                << "'; expected --backend=cpu, --backend=guarded or --backend=cuda\n";
       return 2;
     }
   }

@@ -23,8 +23,8 @@ struct Outcome {
 
 Outcome romp_train_rom(const test::ScratchFolder& folder, const std::string& arguments) {
   const std::string log = folder.file("romp.log");
-  const int status =
-      std::system((std::string(ROMP_EXECUTABLE) + " --threads 1 train-rom " + arguments + " > " + log + " 2>&1").c_str());
+  const int status = std::system(
+      (std::string(ROMP_EXECUTABLE) + " --threads 1 train-rom " + arguments + " > " + log + " 2>&1").c_str());
   std::ostringstream output;
   output << std::ifstream(log).rdbuf();
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output.str()};

@@ -22,8 +22,9 @@ namespace {
 constexpr float kJellyDensity = 1000.0f;
 
 engine::MaterialSpec jelly(float young, float poisson) {
-  return engine::MaterialSpec{material::MaterialParams<float>::fixed_corotated(material::lame_from_young_poisson(young, poisson)),
-                      kJellyDensity};
+  return engine::MaterialSpec{
+      material::MaterialParams<float>::fixed_corotated(material::lame_from_young_poisson(young, poisson)),
+      kJellyDensity};
 }
 
 // Jelly (E = 1e4 Pa, nu = 0.3) in open space at cell width dx under gravity, with a fixed 1e-4 s step.
@@ -130,7 +131,8 @@ TEST(FullOrderSim, ApicConservesLinearAndAngularMomentum) {
 TEST(FullOrderSim, BodyAtRestStaysAtRest) {
   const float dx = 1.0f / 16.0f;
   engine::FullOrderConfig config = test::open_space_config(dx, 16, jelly(1e5f, 0.3f));
-  const mpm::ParticleInit init = test::lattice_box({0.375f, 0.375f, 0.375f}, {0.625f, 0.625f, 0.625f}, dx, 2, kJellyDensity);
+  const mpm::ParticleInit init =
+      test::lattice_box({0.375f, 0.375f, 0.375f}, {0.625f, 0.625f, 0.625f}, dx, 2, kJellyDensity);
   engine::FullOrderSim sim(test::exec(), config, init);
   for (int step = 0; step < 1000; ++step) sim.substep(sim.stable_dt());
   const std::vector<float> x = sim.particles().positions_in_initial_order(test::exec());
@@ -150,10 +152,12 @@ TEST(FullOrderSim, RotatingTheInitialStateRotatesTheResult) {
   const Vec3<float> pivot(0.5f, 0.5f, 0.5f);  // a grid node
   for (Index p = 0; p < n; ++p) {
     const Vec3<float> r = test::plane_vector(init.x, n, p) - pivot;
-    test::set_plane_vector(init.v, n, p, Vec3<float>(0.5f * r[1], -0.3f * r[2], 1.5f * r[0]) + cross(Vec3<float>(0, 0, 2), r));
+    test::set_plane_vector(init.v, n, p,
+                           Vec3<float>(0.5f * r[1], -0.3f * r[2], 1.5f * r[0]) + cross(Vec3<float>(0, 0, 2), r));
   }
   const float quarter = 1.5707963267948966f;
-  const Mat3<float> Q = rotation_from_vector(Vec3<float>(quarter, 0.0f, 0.0f)) * rotation_from_vector(Vec3<float>(0.0f, quarter, 0.0f));
+  const Mat3<float> Q =
+      rotation_from_vector(Vec3<float>(quarter, 0.0f, 0.0f)) * rotation_from_vector(Vec3<float>(0.0f, quarter, 0.0f));
   // Round Q to the exact signed permutation it is.
   Mat3<float> exact_Q;
   for (int r = 0; r < 3; ++r)
@@ -186,8 +190,8 @@ double measured_bar_frequency(float dx) {
   engine::FullOrderConfig config = test::open_space_config(dx, int(std::lround(1.0f / dx)), jelly(young, 0.0f));
   config.cfl = 0.3f;
   const float x0 = 0.25f;
-  mpm::ParticleInit init = test::lattice_box({x0, 0.5f - 2 * dx, 0.5f - 2 * dx}, {x0 + length, 0.5f + 2 * dx, 0.5f + 2 * dx},
-                                             dx, 2, kJellyDensity);
+  mpm::ParticleInit init = test::lattice_box({x0, 0.5f - 2 * dx, 0.5f - 2 * dx},
+                                             {x0 + length, 0.5f + 2 * dx, 0.5f + 2 * dx}, dx, 2, kJellyDensity);
   const Index n = init.count();
   const float amplitude = 1e-3f * std::sqrt(young / kJellyDensity);  // strain amplitude 1e-3: linear regime
   for (Index p = 0; p < n; ++p) {
@@ -206,7 +210,8 @@ double measured_bar_frequency(float dx) {
     double s = 0.0;
     for (Index p = 0; p < n; ++p)
       if (init.x[p] < x0 + 0.5f * length) s += v[p];
-    if ((s < 0.0) != (previous_s < 0.0)) crossings.push_back(previous_t + (sim.time() - previous_t) * previous_s / (previous_s - s));
+    if ((s < 0.0) != (previous_s < 0.0))
+      crossings.push_back(previous_t + (sim.time() - previous_t) * previous_s / (previous_s - s));
     previous_t = sim.time();
     previous_s = s;
   }
@@ -266,8 +271,8 @@ TEST(FullOrderSim, CubeWithoutStrengthCollapsesAndRecoversWhenItReturns) {
   const float collapsed = body_height(sim);
   sim.advance_to(1.0);
   const float recovered = body_height(sim);
-  std::printf("height: %.4f m at rest, %.4f m without strength (t = 0.2 s), %.4f m at t = 1 s\n", initial,
-              collapsed, recovered);
+  std::printf("height: %.4f m at rest, %.4f m without strength (t = 0.2 s), %.4f m at t = 1 s\n", initial, collapsed,
+              recovered);
   // Measured on the CPU: 18% of the height at 0.2 s, 88% at 1 s. (Left without strength longer,
   // every layer reaches the floor's wall nodes and the body becomes one plane of particles, from
   // which no MPM transfer can separate them again: 0.25 s does that here.)
@@ -284,15 +289,16 @@ double sand_heap_angle_degrees(float friction_angle, float width, float height_0
   config.dx = dx;
   config.domain_cells = {64, 64, 10};
   config.materials = {engine::MaterialSpec{material::MaterialParams<float>::drucker_prager(
-                                       material::lame_from_young_poisson(1e5f, 0.2f), friction_angle, 0.0f),
-                                   1000.0f}};
+                                               material::lame_from_young_poisson(1e5f, 0.2f), friction_angle, 0.0f),
+                                           1000.0f}};
   const float floor = 0.1f;
   mpm::ColliderState ground;  // a static half-space, solid below y = floor
   ground.contact = mpm::ContactType::Sticky;
   ground.center = Vec3<float>(0.5f, floor, 0.0f);
   config.colliders = {engine::ColliderSpec{ground}};
   const float z_low = 3 * dx, z_high = 7 * dx;
-  const mpm::ParticleInit init = test::lattice_box({0.5f - 0.5f * width, floor, z_low}, {0.5f + 0.5f * width, floor + height_0, z_high}, dx, 2, 1000.0f);
+  const mpm::ParticleInit init = test::lattice_box({0.5f - 0.5f * width, floor, z_low},
+                                                   {0.5f + 0.5f * width, floor + height_0, z_high}, dx, 2, 1000.0f);
   engine::FullOrderSim sim(test::exec(), config, init);
   sim.advance_to(duration);
 
@@ -339,8 +345,9 @@ TEST(FullOrderSim, TiledP2GFollowsThePortableKernel) {
     const Index n = init.count();
     for (Index p = 0; p < n; ++p) {
       const Vec3<float> x = test::plane_vector(init.x, n, p);
-      test::set_plane_vector(init.v, n, p, Vec3<float>(0.5f, -2.0f, 0.0f) + cross(Vec3<float>(0.0f, 0.0f, 6.0f),
-                                                                                  x - Vec3<float>(0.4f, 0.25f, 0.4f)));
+      test::set_plane_vector(
+          init.v, n, p,
+          Vec3<float>(0.5f, -2.0f, 0.0f) + cross(Vec3<float>(0.0f, 0.0f, 6.0f), x - Vec3<float>(0.4f, 0.25f, 0.4f)));
     }
     std::vector<std::vector<float>> positions;
     for (const engine::P2GKernel kernel : {engine::P2GKernel::Portable, engine::P2GKernel::Tiled}) {
@@ -452,7 +459,7 @@ TEST(FullOrderSim, SubstepsAllocateNothingOnceRunning) {
   table.half_extents = Vec3<float>(0.2f, 0.05f, 0.2f);
   config.colliders = {engine::ColliderSpec{table}};
   engine::FullOrderSim sim(test::exec(), config,
-                   test::lattice_box({0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}, dx, 2, kJellyDensity));
+                           test::lattice_box({0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}, dx, 2, kJellyDensity));
   for (int s = 0; s < 2; ++s) sim.substep(sim.stable_dt());
   const memory::Traffic before = memory::traffic();
   constexpr int kSubsteps = 10;
@@ -473,7 +480,8 @@ TEST(FullOrderSim, DirichletGroupAndColliderLetGoAtTheirEnd) {
   engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
   config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
   config.fixed_dt = 1e-3f;
-  config.dirichlet = {engine::DirichletSpec{Vec3<float>(0.5f, 0.5f, 0.5f), Vec3<float>::zero(), Vec3<float>::zero(), release}};
+  config.dirichlet = {
+      engine::DirichletSpec{Vec3<float>(0.5f, 0.5f, 0.5f), Vec3<float>::zero(), Vec3<float>::zero(), release}};
   mpm::ColliderState table;
   table.shape = mpm::ColliderShape::Box;
   table.contact = mpm::ContactType::Sticky;
@@ -531,7 +539,6 @@ TEST(FullOrderSim, NonFiniteStateStopsWithStageAndParticle) {
     EXPECT_NE(std::string(error.what()).find("stage"), std::string::npos);
   }
 }
-
 
 // Tracers (the tracer-particle baseline of ROM super-resolution) interpolate the grid velocity as G2P
 // does, so tracers started at the material points of a spinning, shearing, falling body follow the

@@ -45,10 +45,13 @@ const material::Lame<double> kLame = material::lame_from_young_poisson(1e6, 0.3)
 class DomainOperatorFixture {
  public:
   DomainOperatorFixture(const std::vector<M>& F, float dt, bool enrich)
-      : exec_(test::exec()), init_(body(F)), particles_(exec_.backend, init_), domains_(exec_.backend, init_.domains),
+      : exec_(test::exec()),
+        init_(body(F)),
+        particles_(exec_.backend, init_),
+        domains_(exec_.backend, init_.domains),
         grid_(exec_.backend, kDx, true) {
-    const material::MaterialParams<float> params = material::MaterialParams<float>::fixed_corotated(
-        material::Lame<float>{float(kLame.mu), float(kLame.lambda)});
+    const material::MaterialParams<float> params =
+        material::MaterialParams<float>::fixed_corotated(material::Lame<float>{float(kLame.mu), float(kLame.lambda)});
     materials_ = DeviceBuffer<material::MaterialParams<float>>::from_host(
         exec_.backend, std::vector<material::MaterialParams<float>>{params});
     failures_ =
@@ -103,8 +106,7 @@ class DomainOperatorFixture {
     const std::vector<float> S = projector_.to_host(exec_.stream);
     const Index n = entries();
     std::vector<float> diagonal(3 * n);
-    for (int a = 0; a < 3; ++a)
-      std::copy(S.begin() + 4 * a * n, S.begin() + (4 * a + 1) * n, diagonal.begin() + a * n);
+    for (int a = 0; a < 3; ++a) std::copy(S.begin() + 4 * a * n, S.begin() + (4 * a + 1) * n, diagonal.begin() + a * n);
     return diagonal;
   }
 
@@ -192,16 +194,18 @@ TEST_P(ImplicitDomainOperator, IsSymmetricAndSemidefinite) {
   test::MatrixSampler sampler(3);
   std::vector<M> F;
   for (Index p = 0; p < kParticles; ++p)
-    F.push_back(sampler.with_singular_values(sampler.uniform(0.3, 1.5), sampler.uniform(0.1, 1.0),
-                                             sampler.uniform(-0.6, 0.8)));
+    F.push_back(
+        sampler.with_singular_values(sampler.uniform(0.3, 1.5), sampler.uniform(0.1, 1.0), sampler.uniform(-0.6, 0.8)));
   const DomainOperatorFixture fixture(F, long_step(), GetParam());
   const std::vector<float> free = fixture.free();
   Index free_corner_components = 0;
   for (int a = 0; a < 3; ++a)
     for (Index n = fixture.nodes(); n < fixture.entries(); ++n)
       free_corner_components += free[a * fixture.entries() + n] > 0;
-  if (GetParam()) EXPECT_GT(free_corner_components, 0) << "no enriched corner is an unknown";
-  else EXPECT_EQ(free_corner_components, 0) << "a corner bound to the grid is an unknown";
+  if (GetParam())
+    EXPECT_GT(free_corner_components, 0) << "no enriched corner is an unknown";
+  else
+    EXPECT_EQ(free_corner_components, 0) << "a corner bound to the grid is an unknown";
 
   std::mt19937_64 rng(17);
   double stiffness_share = 0.0;

@@ -72,10 +72,10 @@ struct StiffDrop {
   engine::FullOrderConfig config;
 };
 StiffDrop stiff_drop(engine::Integrator integrator, bool domains) {
-  StiffDrop drop{domains ? test::lattice_box_with_domains({0.4375f, 0.15f, 0.4375f}, {0.5625f, 0.275f, 0.5625f},
-                                                          kDx, 2, kDensity)
-                         : stiff_cube(),
-                 drop_config(integrator, kStepRatio * explicit_step_limit())};
+  StiffDrop drop{
+      domains ? test::lattice_box_with_domains({0.4375f, 0.15f, 0.4375f}, {0.5625f, 0.275f, 0.5625f}, kDx, 2, kDensity)
+              : stiff_cube(),
+      drop_config(integrator, kStepRatio * explicit_step_limit())};
   drop.config.enrichment_threshold = 0.0f;
   return drop;
 }
@@ -124,7 +124,8 @@ TEST(ImplicitStep, UnconvergedSolveKeepsTheExplicitVelocitiesAndIsCounted) {
   const Vec3<float> center(0.5f, 0.2125f, 0.5f);
   for (Index p = 0; p < n; ++p) {
     const Vec3<float> r = test::plane_vector(init.x, n, p) - center;
-    test::set_plane_vector(init.v, n, p, cross(Vec3<float>(1.0f, 2.0f, -3.0f), r) + Vec3<float>(4.0f * r[1], 0.0f, 0.0f));
+    test::set_plane_vector(init.v, n, p,
+                           cross(Vec3<float>(1.0f, 2.0f, -3.0f), r) + Vec3<float>(4.0f * r[1], 0.0f, 0.0f));
   }
   const float dt = kStepRatio * explicit_step_limit();
   engine::FullOrderConfig implicit_config = drop_config(engine::Integrator::Implicit, dt);
@@ -190,8 +191,8 @@ TEST(ImplicitStep, CubeOnASlipSlopeSlidesStably) {
   config.colliders = {engine::ColliderSpec{slope}};
   // The cube of drop_config, turned with the slope and resting half a particle spacing above it.
   const float side = 0.125f, gap = 0.25f * kDx;
-  mpm::ParticleInit init = test::lattice_box({0.4375f, 0.4f + gap, 0.4375f}, {0.5625f, 0.4f + gap + side, 0.5625f},
-                                             kDx, 2, kDensity);
+  mpm::ParticleInit init =
+      test::lattice_box({0.4375f, 0.4f + gap, 0.4375f}, {0.5625f, 0.4f + gap + side, 0.5625f}, kDx, 2, kDensity);
   const Index n = init.count();
   for (Index p = 0; p < n; ++p) {
     const Vec3<float> x = test::plane_vector(init.x, n, p) - slope.center;

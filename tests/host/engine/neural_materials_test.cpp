@@ -36,8 +36,9 @@ namespace {
 nn::nclaw::NeuralLaws scaled_laws(std::uint64_t seed, double p_wave, double plastic_gain = 100.0) {
   nn::nclaw::NeuralLaws laws = nn::nclaw::seeded_laws(seed, torch::kFloat32);
   const torch::NoGradGuard no_grad;
-  const double found = nn::nclaw::rest_stiffness([&](const torch::Tensor& F) { return laws.elastic->forward(F); },
-                                          torch::kFloat32).p_wave_modulus();
+  const double found =
+      nn::nclaw::rest_stiffness([&](const torch::Tensor& F) { return laws.elastic->forward(F); }, torch::kFloat32)
+          .p_wave_modulus();
   laws.elastic->parameters().back().mul_(p_wave / found);  // the output layer: P is linear in it
   laws.plastic->parameters().back().mul_(plastic_gain);
   return laws;
@@ -120,8 +121,7 @@ TEST(NeuralMaterials, EachLawActsOnItsOwnMaterialsParticles) {
     const torch::Tensor F = column(init.F, n, p);
     const int m = int(p % 3);
     const torch::Tensor expected_P = m == 1 ? torch::zeros({9, 1}) : (m == 0 ? first : second).elastic->forward(F);
-    const torch::Tensor expected_F =
-        m == 1 || p == kHeld ? F : (m == 0 ? first : second).plastic->forward(F);
+    const torch::Tensor expected_F = m == 1 || p == kHeld ? F : (m == 0 ? first : second).plastic->forward(F);
     EXPECT_TRUE(all_close(column(P, n, p), expected_P, 1e-5, 1e-2)) << "stress of particle " << p;
     EXPECT_TRUE(all_close(column(F_after, n, p), expected_F, 1e-5, 1e-6)) << "F of particle " << p;
     if (m != 1 && p != kHeld) EXPECT_FALSE(torch::allclose(expected_F, F, 0.0, 1e-5)) << "the plastic law did nothing";
@@ -174,7 +174,8 @@ dt = 5e-4
 wall_cells = 3
 contact = "separate"
 [materials.body]
-)" + material + R"(
+)" + material +
+         R"(
 [[objects]]
 velocity = [0.5, -1.5, 0.0]
 angular_velocity = [0.0, 0.0, 4.0]
@@ -220,8 +221,8 @@ TEST(NeuralMaterials, SceneRunFollowsTheDifferentiableStepWithTheSameLaws) {
 TEST(NeuralMaterials, SceneMaterialCarriesTheLawAndItsRestStiffness) {
   const test::ScratchFolder folder;
   write_law(folder, "law.h5", scaled_laws(4, 2e5));
-  const scene::Scene scene = scene::parse_scene(dropped_cube_scene("neural = \"law.h5\"\ndensity = 500.0"),
-                                                folder.file("cube.toml"));
+  const scene::Scene scene =
+      scene::parse_scene(dropped_cube_scene("neural = \"law.h5\"\ndensity = 500.0"), folder.file("cube.toml"));
   const engine::MaterialSpec material = scene::to_material_spec(scene.materials.at(0));
   EXPECT_EQ(material.params.model, material::MaterialModel::Neural);
   EXPECT_EQ(material.neural_law, folder.file("law.h5"));

@@ -23,9 +23,10 @@ namespace {
 constexpr float kDensity = 1000.0f;
 
 engine::MaterialSpec rubber(float young) {
-  return engine::MaterialSpec{material::MaterialParams<float>::fixed_corotated(material::lame_from_young_poisson(young, 0.3f))
-                          .with_min_stretch(0.1f),
-                      kDensity};
+  return engine::MaterialSpec{
+      material::MaterialParams<float>::fixed_corotated(material::lame_from_young_poisson(young, 0.3f))
+          .with_min_stretch(0.1f),
+      kDensity};
 }
 
 Vec3<double> linear_momentum(engine::FullOrderSim& sim, const std::vector<float>& mass) {
@@ -60,7 +61,8 @@ TEST_P(DomainsAtEnrichment, TranslatingBodyMovesRigidlyWithUnchangedDeformation)
   const float dx = 1.0f / 32.0f;
   engine::FullOrderConfig config = test::open_space_config(dx, 32, rubber(2e4f));
   config.enrichment_threshold = GetParam();
-  mpm::ParticleInit init = test::lattice_box_with_domains({0.40f, 0.40f, 0.40f}, {0.55f, 0.50f, 0.50f}, dx, 2, kDensity);
+  mpm::ParticleInit init =
+      test::lattice_box_with_domains({0.40f, 0.40f, 0.40f}, {0.55f, 0.50f, 0.50f}, dx, 2, kDensity);
   const Index n = init.count();
   const Vec3<float> velocity(0.3f, -0.2f, 0.1f);
   for (Index p = 0; p < n; ++p) test::set_plane_vector(init.v, n, p, velocity);
@@ -87,7 +89,8 @@ TEST_P(DomainsAtEnrichment, ConserveLinearMomentumOfASpinningBody) {
   const float dx = 1.0f / 32.0f;
   engine::FullOrderConfig config = test::open_space_config(dx, 32, rubber(2e4f));
   config.enrichment_threshold = GetParam();
-  mpm::ParticleInit init = test::lattice_box_with_domains({0.40f, 0.40f, 0.40f}, {0.60f, 0.55f, 0.50f}, dx, 2, kDensity);
+  mpm::ParticleInit init =
+      test::lattice_box_with_domains({0.40f, 0.40f, 0.40f}, {0.60f, 0.55f, 0.50f}, dx, 2, kDensity);
   const Index n = init.count();
   for (Index p = 0; p < n; ++p) {
     const Vec3<float> r = test::plane_vector(init.x, n, p) - Vec3<float>(0.5f, 0.475f, 0.45f);
@@ -211,15 +214,11 @@ double rest_state_error(const std::vector<float>& x, const std::vector<float>& x
   center *= 1.0 / double(n);
   center0 *= 1.0 / double(n);
   Mat3<double> covariance = Mat3<double>::zero();
-  for (Index p = 0; p < n; ++p)
-    covariance += Mat3<double>::outer(point(x, n, p) - center,
-                                      point(x0, n, p) - center0);
+  for (Index p = 0; p < n; ++p) covariance += Mat3<double>::outer(point(x, n, p) - center, point(x0, n, p) - center0);
   const Svd3<double> svd = svd3(covariance);
   const Mat3<double> rotation = times_transpose(svd.U, svd.V);
   double sum = 0.0;
-  for (Index p = 0; p < n; ++p)
-    sum += norm(point(x, n, p) - center -
-                rotation * (point(x0, n, p) - center0));
+  for (Index p = 0; p < n; ++p) sum += norm(point(x, n, p) - center - rotation * (point(x0, n, p) - center0));
   return sum / double(n) / diagonal;
 }
 
@@ -269,8 +268,9 @@ struct StretchedBar {
 StretchedBar stretch_bar(bool domains, const std::optional<mpm::Region>& released = std::nullopt) {
   const float dx = 0.005f, spacing = dx / 2.0f;
   engine::FullOrderConfig config = test::open_space_config(dx, 64, rubber(12500.0f));
-  config.dirichlet = {engine::DirichletSpec{Vec3<float>(0.16f, 0.1f, 0.16f), Vec3<float>(0.0f, -0.6f, 0.0f), Vec3<float>::zero()},
-                      engine::DirichletSpec{Vec3<float>(0.16f, 0.2f, 0.16f), Vec3<float>(0.0f, 0.6f, 0.0f), Vec3<float>::zero()}};
+  config.dirichlet = {
+      engine::DirichletSpec{Vec3<float>(0.16f, 0.1f, 0.16f), Vec3<float>(0.0f, -0.6f, 0.0f), Vec3<float>::zero()},
+      engine::DirichletSpec{Vec3<float>(0.16f, 0.2f, 0.16f), Vec3<float>(0.0f, 0.6f, 0.0f), Vec3<float>::zero()}};
   if (released) config.domain_releases = {engine::DomainReleaseSpec{*released}};
   const Vec3<float> low(0.155f, 0.13f, 0.155f), high(0.165f, 0.17f, 0.165f);
   mpm::ParticleInit init = domains ? test::lattice_box_with_domains(low, high, dx, 2, kDensity)

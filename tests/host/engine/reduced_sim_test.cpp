@@ -34,8 +34,8 @@ engine::FullOrderConfig falling_config() {
 }
 
 mpm::ParticleInit cube() {
-  mpm::ParticleInit init = test::lattice_box(Vec3<float>::constant(0.375f), Vec3<float>::constant(0.625f), kDx, 2,
-                                             1000.0f);
+  mpm::ParticleInit init =
+      test::lattice_box(Vec3<float>::constant(0.375f), Vec3<float>::constant(0.625f), kDx, 2, 1000.0f);
   for (Index p = 0; p < init.count(); ++p) test::set_plane_vector(init.v, init.count(), p, kInitialVelocity);
   return init;
 }
@@ -84,9 +84,9 @@ TEST(ReducedSim, PositionVelocityProjectionReproducesTheFullOrderTranslation) {
 // Domains are the full-order engine's: a reference whose particles have them runs the same reduced
 // trajectory as one without.
 TEST(ReducedSim, ParticleDomainsOfTheReferenceAreIgnored) {
-  mpm::ParticleInit with_domains = geometry::sample_box_with_domains(
-      Vec3<float>::constant(0.375f), Vec3<float>::constant(0.625f),
-      geometry::SamplingSpec{geometry::SamplingMethod::Lattice, 2, kDx}, 1000.0f);
+  mpm::ParticleInit with_domains =
+      geometry::sample_box_with_domains(Vec3<float>::constant(0.375f), Vec3<float>::constant(0.625f),
+                                        geometry::SamplingSpec{geometry::SamplingMethod::Lattice, 2, kDx}, 1000.0f);
   for (Index p = 0; p < with_domains.count(); ++p)
     test::set_plane_vector(with_domains.v, with_domains.count(), p, kInitialVelocity);
   engine::ReducedSim sim(test::exec(), falling_config(), with_domains, test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
@@ -110,9 +110,9 @@ struct NeighbourRun {
 };
 // 3 samples (seeded) in a 32,768-point body under a map that deforms it.
 engine::ReducedSim deformed_body(engine::RomQuadrature quadrature, engine::NeighbourSearch search,
-                         engine::RomProjection projection = engine::RomProjection::Velocity) {
-  const mpm::ParticleInit body = test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2,
-                                                   1000.0f);
+                                 engine::RomProjection projection = engine::RomProjection::Velocity) {
+  const mpm::ParticleInit body =
+      test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2, 1000.0f);
   engine::ReducedOptions options;
   options.quadrature = quadrature;
   options.samples = 3;
@@ -120,11 +120,12 @@ engine::ReducedSim deformed_body(engine::RomQuadrature quadrature, engine::Neigh
   options.neighbour_search = search;
   options.projection = projection;
   return engine::ReducedSim(test::exec(), falling_config(), body, test::small_nonlinear_map(0.25f, 0.5f, 0.003f),
-                    {0.0f, 0.0f, 0.0f}, options);
+                            {0.0f, 0.0f, 0.0f}, options);
 }
 NeighbourRun run_deformed_body(engine::RomQuadrature quadrature, engine::NeighbourSearch search) {
   engine::ReducedSim sim = deformed_body(quadrature, search);
-  EXPECT_EQ(sim.searches_neighbours(), quadrature == engine::RomQuadrature::Lagrangian && search == engine::NeighbourSearch::Always);
+  EXPECT_EQ(sim.searches_neighbours(),
+            quadrature == engine::RomQuadrature::Lagrangian && search == engine::NeighbourSearch::Always);
   for (int s = 0; s < 10; ++s) sim.substep(kDt);
   return {sim.xhat(), sim.last_quadrature_count(), sim.inversion_iterations()};
 }
@@ -227,12 +228,13 @@ TEST(ReducedSim, SubstepsReuseTheirBuffersAndMakeFewRoundTrips) {
 // Auto searches only where the samples reach under half the body: never with every point sampled, nor
 // on a body a few stencils across.
 TEST(ReducedSim, AutoSearchesNeighboursOnlyWhereTheyAreFewerThanThePoints) {
-  mpm::ParticleInit large = test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2,
-                                              1000.0f);
+  mpm::ParticleInit large =
+      test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2, 1000.0f);
   auto searches = [&](const mpm::ParticleInit& body, Index samples) {
     engine::ReducedOptions options;
     options.samples = samples;
-    return engine::ReducedSim(test::exec(), falling_config(), body, test::translation_map(), {0.0f, 0.0f, 0.0f}, options)
+    return engine::ReducedSim(test::exec(), falling_config(), body, test::translation_map(), {0.0f, 0.0f, 0.0f},
+                              options)
         .searches_neighbours();
   };
   EXPECT_TRUE(searches(large, 3));     // 3 × 125 cells × 8 points = 3,000 < 32,768 / 2
@@ -272,8 +274,8 @@ TEST(ReducedSim, EulerianQuadratureWeighsTheBodyAndDropsPointsOutsideIt) {
 // one at 10.75 lies outside) reach nodes 7-11 only. Those nodes must exist and carry velocity 0: from
 // rest, with no stress, each sample moves at g Δt times its weight on nodes 7-11.
 TEST(ReducedSim, EulerianSamplesReadNodesNoQuadraturePointReaches) {
-  const mpm::ParticleInit body = test::lattice_box(Vec3<float>::constant(8.0f * kDx),
-                                                   Vec3<float>::constant(10.75f * kDx), kDx, 8, 1000.0f);
+  const mpm::ParticleInit body =
+      test::lattice_box(Vec3<float>::constant(8.0f * kDx), Vec3<float>::constant(10.75f * kDx), kDx, 8, 1000.0f);
   const float shift = -0.01f * kDx;  // x̂: off the lattice, so no quadrature point is on the body's faces
   engine::ReducedOptions eulerian;
   eulerian.quadrature = engine::RomQuadrature::Eulerian;
@@ -309,8 +311,8 @@ TEST(ReducedSim, DecodesAFinerSamplingOfTheBody) {
   // Super-resolution: the state at points the simulation never had, here a lattice twice as fine.
   engine::ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
   for (int s = 0; s < 5; ++s) sim.substep(kDt);
-  const mpm::ParticleInit fine = test::lattice_box(Vec3<float>::constant(0.375f), Vec3<float>::constant(0.625f), kDx,
-                                                   4, 1000.0f);
+  const mpm::ParticleInit fine =
+      test::lattice_box(Vec3<float>::constant(0.375f), Vec3<float>::constant(0.625f), kDx, 4, 1000.0f);
   const engine::ReducedSim::DecodedState state = sim.decode(fine.x);
   const Index n = fine.count();
   ASSERT_EQ(Index(state.x.size()), 3 * n);
@@ -344,7 +346,8 @@ TEST(ReducedSim, StateDecodedOutsideTheDomainStopsNamingThePoint) {
     // x̂ = (0.6, 0, 0) moves the cube's far face (x = 0.625) to 1.225 m, past the 1 m domain.
     engine::ReducedOptions options;
     options.samples = samples;
-    engine::ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.6f, 0.0f, 0.0f}, options);
+    engine::ReducedSim sim(test::exec(), falling_config(), cube(), test::translation_map(), {0.6f, 0.0f, 0.0f},
+                           options);
     try {
       sim.substep(kDt);
       FAIL() << "a state outside the domain must be an error";
@@ -390,7 +393,8 @@ TEST(ReducedSim, CflOptionScalesTheStableStep) {
   auto stable_dt = [](double cfl) {
     engine::ReducedOptions options;
     options.cfl = cfl;
-    return engine::ReducedSim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, options)
+    return engine::ReducedSim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f},
+                              options)
         .stable_dt();
   };
   EXPECT_EQ(stable_dt(0.0), stable_dt(falling_config().cfl));  // 0: the scene's
@@ -428,7 +432,8 @@ TEST(ReducedSim, PicScenesRunTheSameStepAndFlipIsRefused) {
 TEST(ReducedSim, PlasticMaterialsAreRejected) {
   engine::FullOrderConfig config = falling_config();
   config.materials = {scene::nclaw_material(scene::NclawMaterial::Sand)};
-  EXPECT_THROW(engine::ReducedSim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {}), Error);
+  EXPECT_THROW(engine::ReducedSim(test::exec(), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, {}),
+               Error);
 }
 
 TEST(ReducedSim, TheImplicitIntegratorIsRefusedByName) {

@@ -19,12 +19,9 @@ namespace {
 
 const char* name_of(SamplingMethod method) {
   switch (method) {
-    case SamplingMethod::Lattice:
-      return "Lattice";
-    case SamplingMethod::JitteredLattice:
-      return "JitteredLattice";
-    case SamplingMethod::PoissonDisk:
-      return "PoissonDisk";
+    case SamplingMethod::Lattice: return "Lattice";
+    case SamplingMethod::JitteredLattice: return "JitteredLattice";
+    case SamplingMethod::PoissonDisk: return "PoissonDisk";
   }
   return "?";
 }

@@ -21,7 +21,7 @@ std::string to_ascii_ply(const TriangleMesh& mesh);
 // Coordinates as float64 (so the mesh reads back exactly), indices as `list uchar int vertex_indices`.
 std::string to_binary_ply(const TriangleMesh& mesh);
 
-using romp::test::ScratchFolder;
 using romp::test::error_message;
+using romp::test::ScratchFolder;
 
 }  // namespace romp::geometry::test

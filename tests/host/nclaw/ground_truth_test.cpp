@@ -33,7 +33,8 @@ std::string cube_scene(const std::string& time = "end = 0.01\nframe_rate = 2000\
 size = [1.0, 1.0, 1.0]
 dx = 0.05
 [time]
-)" + time + R"(
+)" + time +
+         R"(
 [boundary]
 wall_cells = 3
 contact = "separate"
@@ -117,9 +118,7 @@ TEST(GroundTruth, PositionsOutsideTheDomainOrNotFiniteAreRefused) {
     file.write_dataset(dataset, shape, values);
     return path;
   };
-  const auto error = [](const std::string& path) {
-    return test::error_message([&] { read_ground_truth(path); });
-  };
+  const auto error = [](const std::string& path) { return test::error_message([&] { read_ground_truth(path); }); };
   const std::string nan_position = error(corrupted(7, "x", 42, std::nanf("")));
   EXPECT_NE(nan_position.find("frame 7, particle 42: x[1] = nan is outside the domain's interior [0.05, 0.95] m"),
             std::string::npos)

@@ -39,7 +39,8 @@ dt = 5e-4
 [boundary]
 contact = "separate"
 [materials.body]
-preset = ")" + material + R"("
+preset = ")" +
+         material + R"("
 [[objects]]
 velocity = [1.0, -1.5, -2.0]
 angular_velocity = [4.0, 4.0, 4.0]
@@ -168,7 +169,8 @@ TEST_F(SceneRunner, OutputPointsOfAReducedRunAreDecodedThere) {
   ASSERT_EQ(last.x.size(), 9u);
   // g(X; x̂) = X + x̂: the three points moved by the same x̂, which moved at about 1 m/s for 0.04 s.
   for (int a = 0; a < 3; ++a)
-    for (int p = 1; p < 3; ++p) EXPECT_NEAR(last.x[3 * a + p] - points.X[3 * a + p], last.x[3 * a] - points.X[3 * a], 1e-6f);
+    for (int p = 1; p < 3; ++p)
+      EXPECT_NEAR(last.x[3 * a + p] - points.X[3 * a + p], last.x[3 * a] - points.X[3 * a], 1e-6f);
   EXPECT_GT(std::fabs(last.x[0] - points.X[0]), 0.02f);
   EXPECT_EQ(last.F[0], 1.0f);
 }
@@ -301,8 +303,9 @@ TEST_F(SceneRunner, ResumedRunWithParticleDomainsIsBitwiseTheUninterruptedRun) {
   text.replace(text.find("center = [0.5, 0.5, 0.5]"), 24, "center = [0.5, 0.42, 0.5]");
   text.replace(text.find("velocity = [1.0, -1.5, -2.0]"), 28, "velocity = [1.0, -6.0, -2.0]");  // hard into the floor
   // A slab of it loses its domains before the checkpoint: which ones did is part of the state.
-  text += "[[domain_release]]\nregion = { type = \"box\", center = [0.5, 0.42, 0.5], size = [1.0, 0.1, 1.0] }\n"
-          "end = 0.01\n";
+  text +=
+      "[[domain_release]]\nregion = { type = \"box\", center = [0.5, 0.42, 0.5], size = [1.0, 0.1, 1.0] }\n"
+      "end = 0.01\n";
   expect_resume_is_bitwise(scene::parse_scene(text, "cube.toml"), folder_);
 }
 

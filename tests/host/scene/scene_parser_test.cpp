@@ -163,7 +163,8 @@ TEST(SceneParser, RejectsEveryMalformedSceneWithItsOwnMessage) {
     } catch (const Error& error) {
       const std::string message = error.what();
       EXPECT_EQ(message.rfind(file + ":", 0), 0u) << "the message must start with the file: " << message;
-      EXPECT_NE(message.find(expected), std::string::npos) << file << ": expected \"" << expected << "\" in\n  " << message;
+      EXPECT_NE(message.find(expected), std::string::npos)
+          << file << ": expected \"" << expected << "\" in\n  " << message;
     }
     ++checked;
   }

@@ -76,7 +76,8 @@ TEST(DeviceBuffer, CloneToTheCpuBringsDataHome) {
 
 TEST(DeviceBuffer, FillZeroClearsEveryByte) {
   const Exec& exec = test::exec();
-  DeviceBuffer<double> buffer = DeviceBuffer<double>::from_host(exec.backend, std::vector<double>(513, 7.0), exec.stream);
+  DeviceBuffer<double> buffer =
+      DeviceBuffer<double>::from_host(exec.backend, std::vector<double>(513, 7.0), exec.stream);
   buffer.fill_zero(exec.stream);
   EXPECT_EQ(buffer.to_host(exec.stream), std::vector<double>(513, 0.0));
 }
@@ -161,9 +162,7 @@ TEST(DeviceBuffer, TransfersAreCounted) {
   EXPECT_EQ(after.allocations, before.allocations);
 }
 
-TEST(DeviceBuffer, NegativeSizeIsAnError) {
-  EXPECT_THROW(DeviceBuffer<float>(test::exec().backend, -1), Error);
-}
+TEST(DeviceBuffer, NegativeSizeIsAnError) { EXPECT_THROW(DeviceBuffer<float>(test::exec().backend, -1), Error); }
 
 }  // namespace
 }  // namespace romp

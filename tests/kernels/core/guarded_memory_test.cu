@@ -33,7 +33,12 @@ TEST_F(GuardedMemory, KernelsAndTransfersReachTheBuffers) {
 
 TEST_F(GuardedMemory, HostCodeThatReadsABufferCrashesThere) {
   DeviceBuffer<float> buffer = DeviceBuffer<float>::from_host(Backend::Cpu, std::vector<float>{1.0f, 2.0f});
-  EXPECT_DEATH({ volatile float read = buffer.data()[1]; (void)read; }, "host code touched device memory");
+  EXPECT_DEATH(
+      {
+        volatile float read = buffer.data()[1];
+        (void)read;
+      },
+      "host code touched device memory");
 }
 
 TEST_F(GuardedMemory, HostCodeThatWritesABufferCrashesThere) {
@@ -48,7 +53,12 @@ TEST_F(GuardedMemory, AccessEndsWithTheLaunch) {
     const memory::DeviceAccess open;
     const memory::DeviceAccess nested;  // nesting keeps the pages open until the outer one ends
   }
-  EXPECT_DEATH({ volatile float read = buffer.data()[0]; (void)read; }, "host code touched device memory");
+  EXPECT_DEATH(
+      {
+        volatile float read = buffer.data()[0];
+        (void)read;
+      },
+      "host code touched device memory");
 }
 
 TEST_F(GuardedMemory, ReleasedBlocksAreReusedAndStayGuarded) {
@@ -62,7 +72,12 @@ TEST_F(GuardedMemory, ReleasedBlocksAreReusedAndStayGuarded) {
       for (const DeviceBuffer<float>& buffer : buffers)
         for (const float* earlier : first) reused += buffer.data() == earlier;
       EXPECT_EQ(reused, 8);
-      EXPECT_DEATH({ volatile float read = buffers[3].data()[5]; (void)read; }, "host code touched device memory");
+      EXPECT_DEATH(
+          {
+            volatile float read = buffers[3].data()[5];
+            (void)read;
+          },
+          "host code touched device memory");
     }
   }
 }

@@ -16,7 +16,8 @@ TEST(IndexSelector, SelectsTheIndicesOfTheValueInIncreasingOrder) {
   // Statuses 0, 1, 2 in an irregular pattern over more than one CUDA tile of items.
   std::vector<std::int32_t> flags(5000);
   for (std::size_t i = 0; i < flags.size(); ++i) flags[i] = std::int32_t((i * i + 3 * i) % 7 % 3);
-  const DeviceBuffer<std::int32_t> device_flags = DeviceBuffer<std::int32_t>::from_host(exec.backend, flags, exec.stream);
+  const DeviceBuffer<std::int32_t> device_flags =
+      DeviceBuffer<std::int32_t>::from_host(exec.backend, flags, exec.stream);
   DeviceBuffer<std::int32_t> selected(exec.backend, Index(flags.size()));
   IndexSelector select;
   for (const std::int32_t value : {0, 2, 5}) {

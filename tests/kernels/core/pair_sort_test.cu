@@ -31,7 +31,8 @@ TEST(PairSorter, SortsByKeyKeepingTheInputOrderOfEqualKeys) {
     const std::vector<std::uint64_t> got_keys = download(exec.backend, sorted_keys, exec.stream);
     const std::vector<std::int32_t> got_values = download(exec.backend, sorted_values, exec.stream);
     std::vector<std::int32_t> expected = values;
-    std::stable_sort(expected.begin(), expected.end(), [&](std::int32_t a, std::int32_t b) { return keys[a] < keys[b]; });
+    std::stable_sort(expected.begin(), expected.end(),
+                     [&](std::int32_t a, std::int32_t b) { return keys[a] < keys[b]; });
     ASSERT_EQ(got_values, expected);
     for (std::size_t i = 0; i < keys.size(); ++i) ASSERT_EQ(got_keys[i], keys[std::size_t(expected[i])]) << i;
   }

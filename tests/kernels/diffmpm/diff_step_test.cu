@@ -116,9 +116,9 @@ std::vector<double> backward(const Exec& exec, const StepParams<double>& params,
   const Index n = kParticles;
   const StateView<double> out_view = state_planes(const_cast<double*>(out_adjoint.data()), n);
   const StateView<const double> out_planes{out_view.x, out_view.v, out_view.C, out_view.F};
-  step_backward(exec, params, scene.inputs(), scratch.span(), out_planes,
-                InputAdjoints<double>{{data, n}, {data + 3 * n, n}, {data + 6 * n, n}, {data + 15 * n, n},
-                                      {data + 24 * n, n}});
+  step_backward(
+      exec, params, scene.inputs(), scratch.span(), out_planes,
+      InputAdjoints<double>{{data, n}, {data + 3 * n, n}, {data + 6 * n, n}, {data + 15 * n, n}, {data + 24 * n, n}});
   return in_adjoint.to_host(exec.stream);
 }
 
@@ -173,7 +173,7 @@ TEST(DiffStep, NonFiniteStressLeavesPositionsInsideTheDomain) {
 TEST(DiffStep, FloatStepMatchesDouble) {
   const HostScene<double> scene = random_scene(3);
   auto to_float = [](const std::vector<double>& values) { return std::vector<float>(values.begin(), values.end()); };
-  const HostScene<float> scene_float{to_float(scene.x), to_float(scene.v), to_float(scene.C), to_float(scene.F),
+  const HostScene<float> scene_float{to_float(scene.x), to_float(scene.v),    to_float(scene.C),     to_float(scene.F),
                                      to_float(scene.P), to_float(scene.mass), to_float(scene.volume)};
   const std::vector<double> reference = forward(test::exec(), scene_params<double>(3, 9.8), scene);
   const std::vector<float> result = forward(test::exec(), scene_params<float>(3, 9.8f), scene_float);
@@ -213,8 +213,8 @@ TEST(DiffStep, AdjointMatchesCentralDifferences) {
       HostScene<double> plus = scene, minus = scene;
       (plus.*group.field)[i] += h;
       (minus.*group.field)[i] -= h;
-      const double difference = (dot(weights, forward(exec, params, plus)) - dot(weights, forward(exec, params, minus))) /
-                                (2.0 * h);
+      const double difference =
+          (dot(weights, forward(exec, params, plus)) - dot(weights, forward(exec, params, minus))) / (2.0 * h);
       largest_error = std::max(largest_error, std::abs(difference - gradient[group.offset + Index(i)]));
       largest_gradient = std::max(largest_gradient, std::abs(difference));
     }

@@ -15,8 +15,8 @@
 #include "kernels/material/lame.h"
 #include "kernels/material/material.h"
 #include "kernels/material/neo_hookean.h"
-#include "kernels/material/von_mises.h"
 #include "kernels/material/volume.h"
+#include "kernels/material/von_mises.h"
 #include "kernels/material/weakly_compressible_fluid.h"
 #include "kernels/math/finite.h"
 #include "kernels/math/rotation.h"
@@ -91,8 +91,7 @@ M energy_gradient_by_differences(const Model& model, const M& F) {
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) {
       const M step = kFiniteDifferenceStep * unit(r, c);
-      gradient(r, c) =
-          (model.energy_density(F + step) - model.energy_density(F - step)) / (2 * kFiniteDifferenceStep);
+      gradient(r, c) = (model.energy_density(F + step) - model.energy_density(F - step)) / (2 * kFiniteDifferenceStep);
     }
   return gradient;
 }
@@ -156,8 +155,8 @@ class ConstitutiveModel : public testing::Test {
   std::mt19937_64 rng{20240611};
 };
 
-using AllModels = testing::Types<FixedCorotated<double>, NeoHookean<double>, HenckyStVK<double>,
-                                 DruckerPrager<double>, VonMises<double>, WeaklyCompressibleFluid<double>>;
+using AllModels = testing::Types<FixedCorotated<double>, NeoHookean<double>, HenckyStVK<double>, DruckerPrager<double>,
+                                 VonMises<double>, WeaklyCompressibleFluid<double>>;
 TYPED_TEST_SUITE(ConstitutiveModel, AllModels, ModelName);
 
 TYPED_TEST(ConstitutiveModel, StressAndEnergyVanishAtRest) {
@@ -237,8 +236,8 @@ TYPED_TEST(ConstitutiveModel, PrincipalStressIsTheStressInThePrincipalFrame) {
 // and every pair modulus ≥ 0, each up to rounding relative to the largest entry.
 bool is_semidefinite(const PrincipalStiffness<double>& stiffness) {
   const M& D = stiffness.D;
-  const double scale = std::max({max_abs(D), max_abs(M::diag(stiffness.symmetric_modulus)),
-                                 max_abs(M::diag(stiffness.skew_modulus))});
+  const double scale =
+      std::max({max_abs(D), max_abs(M::diag(stiffness.symmetric_modulus)), max_abs(M::diag(stiffness.skew_modulus))});
   const double slack = 1e-9 * scale;
   if (max_abs(D - transpose(D)) > 1e-12 * scale) return false;
   for (int i = 0; i < 3; ++i) {
@@ -254,10 +253,11 @@ TYPED_TEST(ConstitutiveModel, DefiniteDifferentialIsTheDifferentialWhereTheStiff
   // them (the fluid's only at J = 1, where it resists volume change alone).
   int semidefinite = 0;
   for (int sample = 0; sample < kSamples; ++sample) {
-    const M F = sample % 2 ? random_rotation(this->rng)
-                           : random_rotation(this->rng) *
-                                 M::diag(uniform(this->rng, 1, 1.1), uniform(this->rng, 1, 1.1), uniform(this->rng, 1, 1.1)) *
-                                 random_rotation(this->rng);
+    const M F = sample % 2
+                    ? random_rotation(this->rng)
+                    : random_rotation(this->rng) *
+                          M::diag(uniform(this->rng, 1, 1.1), uniform(this->rng, 1, 1.1), uniform(this->rng, 1, 1.1)) *
+                          random_rotation(this->rng);
     const PrincipalStiffness<double> stiffness = isotropic_stiffness(this->model, F);
     if (!is_semidefinite(stiffness)) continue;
     ++semidefinite;
@@ -310,11 +310,11 @@ TYPED_TEST(ConstitutiveModel, RotatingTheReferenceShapeRotatesTheStress) {
 TYPED_TEST(ConstitutiveModel, InvertedAndDegenerateDeformationsGiveFiniteResults) {
   const M Q1 = random_rotation(this->rng), Q2 = random_rotation(this->rng);
   const std::vector<M> degenerate = {
-      Q1 * M::diag(1.2, 0.8, -0.5) * Q2,   // inverted
-      M::diag(1, 1, -1),                   // inverted with σ₁ = −σ₂
-      -M::identity(),                      // point reflection
-      Q1 * M::diag(1.5, 1, 1e-8) * Q2,     // nearly flat
-      Q1 * M::diag(1.3, 0.7, 0) * Q2,      // rank 2
+      Q1 * M::diag(1.2, 0.8, -0.5) * Q2,        // inverted
+      M::diag(1, 1, -1),                        // inverted with σ₁ = −σ₂
+      -M::identity(),                           // point reflection
+      Q1 * M::diag(1.5, 1, 1e-8) * Q2,          // nearly flat
+      Q1 * M::diag(1.3, 0.7, 0) * Q2,           // rank 2
       M::outer(Vec(1, 2, -1), Vec(0.5, 0, 1)),  // rank 1
       M::zero(),
   };
@@ -467,8 +467,8 @@ TEST_P(DruckerPragerReturn, EveryProjectedStateIsAdmissible) {
 
 INSTANTIATE_TEST_SUITE_P(DruckerPrager, DruckerPragerReturn, testing::Values(0.0, 0.05),
                          [](const testing::TestParamInfo<double>& info) {
-                           return info.param == 0.0 ? std::string("Cohesionless") : std::string("Cohesive");
-                         });
+  return info.param == 0.0 ? std::string("Cohesionless") : std::string("Cohesive");
+});
 
 TEST(DruckerPrager, AlphaFollowsTheFrictionAngle) {
   EXPECT_EQ(drucker_prager_alpha(0.0), 0.0);
@@ -547,7 +547,7 @@ TEST(WeaklyCompressibleFluid, KirchhoffStressIsAPressure) {
 
 TEST(Lame, ClosedFormForYoungModulus1e5AndPoissonRatio0p2) {
   const Lame<double> lame = lame_from_young_poisson(1e5, 0.2);
-  EXPECT_NEAR(lame.mu, 1e5 / 2.4, 1e-10);                 // 41666.67
+  EXPECT_NEAR(lame.mu, 1e5 / 2.4, 1e-10);                    // 41666.67
   EXPECT_NEAR(lame.lambda, 1e5 * 0.2 / (1.2 * 0.6), 1e-10);  // 27777.78
 }
 

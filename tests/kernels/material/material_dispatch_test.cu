@@ -44,8 +44,8 @@ std::vector<Mf> deformations() {
   std::vector<Mf> result;
   while (int(result.size()) < kDeformations) {
     const Vec3<double> sigma(std::exp(strain(rng)), std::exp(strain(rng)), std::exp(strain(rng)));
-    const double gap = std::min({std::abs(sigma[0] - sigma[1]), std::abs(sigma[1] - sigma[2]),
-                                 std::abs(sigma[0] - sigma[2])});
+    const double gap =
+        std::min({std::abs(sigma[0] - sigma[1]), std::abs(sigma[1] - sigma[2]), std::abs(sigma[0] - sigma[2])});
     if (gap < kMinSingularValueGap) continue;
     const Mat3<double> F = rotation() * Mat3<double>::diag(sigma) * rotation();
     Mf F_float;

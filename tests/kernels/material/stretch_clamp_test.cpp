@@ -35,9 +35,7 @@ std::vector<MaterialParams<double>> hyperelastic_models() {
   return {P::fixed_corotated(kLame), P::neo_hookean(kLame), P::hencky_stvk(kLame)};
 }
 
-double relative_difference(const M& a, const M& b) {
-  return frobenius_norm(a - b) / std::max(frobenius_norm(b), 1.0);
-}
+double relative_difference(const M& a, const M& b) { return frobenius_norm(a - b) / std::max(frobenius_norm(b), 1.0); }
 
 TEST(StretchClamp, LeavesAValidDeformationBitForBit) {
   std::mt19937_64 rng(7);
@@ -76,8 +74,9 @@ TEST(StretchClamp, EveryHyperelasticStressIsTheStressOfTheClampedDeformation) {
       EXPECT_LT(relative_difference(P, first_piola(exact, F_valid)), kTolerance);
       EXPECT_DOUBLE_EQ(energy_density(clamped, F), energy_density(exact, F_valid));
       const M dF = with_stretches(rng, Vec(0.3, 0.2, 0.1));
-      EXPECT_LT(relative_difference(first_piola_differential(clamped, F, dF), first_piola_differential(exact, F_valid, dF)),
-                kTolerance);
+      EXPECT_LT(
+          relative_difference(first_piola_differential(clamped, F, dF), first_piola_differential(exact, F_valid, dF)),
+          kTolerance);
     }
   }
 }

@@ -43,7 +43,8 @@ TEST(DomainWalls, KeepMaskIsFrictionlessContactFaceByFace) {
       const V v(speed(rng), speed(rng), speed(rng));
       const V masked = hadamard(wall_keep_mask(domain, x, kDx, v), v);
       const V expected = face_by_face(domain, x, v);
-      for (int a = 0; a < 3; ++a) EXPECT_EQ(masked[a], expected[a]) << "contact " << int(contact) << ", trial " << trial;
+      for (int a = 0; a < 3; ++a)
+        EXPECT_EQ(masked[a], expected[a]) << "contact " << int(contact) << ", trial " << trial;
     }
   }
 }

@@ -18,7 +18,8 @@ HexDomainWeights<double> weights_of(const Vec (&corners)[kDomainCorners]) { retu
 TEST(HexDomain, LatticeCubeHasEqualWeightsAndFaceGradients) {
   const double h = 0.25;
   Vec corners[kDomainCorners];
-  for (int c = 0; c < kDomainCorners; ++c) corners[c] = Vec(1, 2, 3) + (0.5 * h) * corner_reference_coordinates<double>(c);
+  for (int c = 0; c < kDomainCorners; ++c)
+    corners[c] = Vec(1, 2, 3) + (0.5 * h) * corner_reference_coordinates<double>(c);
   const HexDomainWeights<double> w = weights_of(corners);
   EXPECT_NEAR(w.volume, h * h * h, kTolerance);
   for (int c = 0; c < kDomainCorners; ++c) {

@@ -53,13 +53,16 @@ std::vector<material::MaterialParams<double>> materials() {
 class ImplicitOperatorFixture {
  public:
   ImplicitOperatorFixture(const std::function<M(Index)>& deformation, float dt)
-      : exec_(test::exec()), init_(lattice(deformation)), particles_(exec_.backend, init_),
+      : exec_(test::exec()),
+        init_(lattice(deformation)),
+        particles_(exec_.backend, init_),
         grid_(exec_.backend, kDx, false) {
     std::vector<material::MaterialParams<float>> table;
     for (const material::MaterialParams<double>& m : materials())
       table.push_back({m.model, float(m.mu), float(m.lambda), 0.0f, 0.0f, 0.0f});
     materials_ = DeviceBuffer<material::MaterialParams<float>>::from_host(exec_.backend, table);
-    failures_ = DeviceBuffer<std::int64_t>::from_host(exec_.backend, std::vector<std::int64_t>(kStageCount, kNoFailure));
+    failures_ =
+        DeviceBuffer<std::int64_t>::from_host(exec_.backend, std::vector<std::int64_t>(kStageCount, kNoFailure));
 
     StepParams& step = system_.step;
     step.dt = dt;
@@ -188,8 +191,9 @@ TEST(ImplicitOperator, IsSymmetricAndPositiveDefiniteUnderCompressionAndInversio
 
 // f_i(s) = −Σ_p V⁰_p P(F̂_p) F_pᵀ ∇w_ip with F̂_p = (I + s Δt Σ_j δv_j ∇w_jpᵀ) F_p: the explicit MLS
 // force when the grid has moved by s Δt δv, in double. Δt² K δv = −Δt df/ds at s = 0.
-std::vector<double> explicit_force(const ParticleInit& init, const std::map<std::tuple<int, int, int>, Index>& node_index,
-                                   Index nodes, const std::vector<float>& dv, double s, double dt) {
+std::vector<double> explicit_force(const ParticleInit& init,
+                                   const std::map<std::tuple<int, int, int>, Index>& node_index, Index nodes,
+                                   const std::vector<float>& dv, double s, double dt) {
   const std::vector<material::MaterialParams<double>> table = materials();
   const double d_inverse = double(kInverseInertiaScale) / (double(kDx) * kDx);
   const Index n = init.count();
@@ -211,7 +215,8 @@ std::vector<double> explicit_force(const ParticleInit& init, const std::map<std:
           gradients.emplace_back(node, gradient);
         }
     const M F_moved = (M::identity() + (s * dt) * displacement_gradient) * F;
-    const M moment = double(init.volume0[p]) * times_transpose(material::first_piola(table[init.material[p]], F_moved), F);
+    const M moment =
+        double(init.volume0[p]) * times_transpose(material::first_piola(table[init.material[p]], F_moved), F);
     for (const auto& [node, gradient] : gradients) {
       const Vec3<double> f = moment * gradient;
       for (int a = 0; a < 3; ++a) force[a * nodes + node] -= f[a];

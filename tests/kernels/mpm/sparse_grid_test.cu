@@ -35,7 +35,8 @@ std::set<std::uint64_t> expected_blocks(const std::vector<float>& x, Index n) {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         for (int k = 0; k < 3; ++k)
-          blocks.insert(block_key((s.base[0] + i) / kBlockSide, (s.base[1] + j) / kBlockSide, (s.base[2] + k) / kBlockSide));
+          blocks.insert(
+              block_key((s.base[0] + i) / kBlockSide, (s.base[1] + j) / kBlockSide, (s.base[2] + k) / kBlockSide));
   }
   return blocks;
 }
@@ -60,12 +61,14 @@ TEST(SparseGrid, ActivatesExactlyTheBlocksOfTheStencilsAndGrows) {
   ASSERT_EQ(grid.active_blocks(), Index(expected.size()));
   GridView view = grid.view();
   const std::vector<std::uint64_t> keys(expected.begin(), expected.end());
-  const DeviceBuffer<std::uint64_t> key_buffer = DeviceBuffer<std::uint64_t>::from_host(exec.backend, keys, exec.stream);
+  const DeviceBuffer<std::uint64_t> key_buffer =
+      DeviceBuffer<std::uint64_t>::from_host(exec.backend, keys, exec.stream);
   DeviceBuffer<std::int32_t> found(exec.backend, Index(keys.size()));
   for_each(exec, Index(keys.size()), FindEachBlock{view.table, key_buffer.span(), found.span()});
   std::vector<std::int32_t> indices = found.to_host(exec.stream);
   std::sort(indices.begin(), indices.end());
-  for (std::size_t b = 0; b < indices.size(); ++b) ASSERT_EQ(indices[b], std::int32_t(b)) << "block indices are 0..blocks-1";
+  for (std::size_t b = 0; b < indices.size(); ++b)
+    ASSERT_EQ(indices[b], std::int32_t(b)) << "block indices are 0..blocks-1";
 }
 
 TEST(SparseGrid, InactiveBlockIsNotFound) {

@@ -45,7 +45,8 @@ std::vector<float> deformations(Index n, unsigned seed) {
   std::normal_distribution<float> normal(0.0f, 0.3f);
   std::vector<float> F(9 * n);
   for (Index p = 0; p < n; ++p)
-    for (int e = 0; e < 9; ++e) F[e * n + p] = (e % 4 == 0 ? 1.0f : 0.0f) * (p % 4 == 0 && e >= 6 ? -1.0f : 1.0f) + normal(random);
+    for (int e = 0; e < 9; ++e)
+      F[e * n + p] = (e % 4 == 0 ? 1.0f : 0.0f) * (p % 4 == 0 && e >= 6 ? -1.0f : 1.0f) + normal(random);
   return F;
 }
 
@@ -67,7 +68,8 @@ TEST(NeuralLaw, RestStateIsExactlyStressFreeAndPlasticityFree) {
   const Exec& exec = test::exec();
   const Weights weights(1);
   std::vector<float> identity(9 * kParticles, 0.0f);
-  for (Index p = 0; p < kParticles; ++p) identity[0 * kParticles + p] = identity[4 * kParticles + p] = identity[8 * kParticles + p] = 1.0f;
+  for (Index p = 0; p < kParticles; ++p)
+    identity[0 * kParticles + p] = identity[4 * kParticles + p] = identity[8 * kParticles + p] = 1.0f;
   const DeviceBuffer<float> F = on_device(identity);
   DeviceBuffer<float> Y(exec.backend, 9 * kParticles);
   law_forward<float>(exec, weights.on_device(), {1.0f, false}, {F.data(), kParticles}, {Y.data(), kParticles});
@@ -103,11 +105,14 @@ TEST(NeuralLaw, BackwardMatchesTheParticleLawOnTheHost) {
   std::normal_distribution<float> normal;
   for (float& value : host_dY) value = normal(random);
   const DeviceBuffer<float> F = on_device(host_F), dY = on_device(host_dY);
-  DeviceBuffer<float> dF(exec.backend, 9 * n), dW(exec.backend, kLawWeights), activations(exec.backend, kLawActivationPlanes * n);
+  DeviceBuffer<float> dF(exec.backend, 9 * n), dW(exec.backend, kLawWeights),
+      activations(exec.backend, kLawActivationPlanes * n);
   const LawWeights<float> dW_view = Weights::view(dW.data());
   const LawOutput<float> plastic{1e-3f, true};
   law_backward<float>(exec, weights.on_device(), plastic, {F.data(), n}, {dY.data(), n}, activations.span(),
-                      {{dF.data(), n}, const_cast<float*>(dW_view.input), const_cast<float*>(dW_view.hidden),
+                      {{dF.data(), n},
+                       const_cast<float*>(dW_view.input),
+                       const_cast<float*>(dW_view.hidden),
                        const_cast<float*>(dW_view.output)});
   const std::vector<float> result_dF = on_host(dF), result_rows = on_host(activations);
 
@@ -115,7 +120,8 @@ TEST(NeuralLaw, BackwardMatchesTheParticleLawOnTheHost) {
   for (Index p = 0; p < n; ++p) {
     const Mat3<float> expected = law_backward(weights.on_host(), plastic, matrix(host_F, n, p), matrix(host_dY, n, p),
                                               activation_rows(expected_rows.data(), n, p));
-    EXPECT_LE(max_abs(matrix(result_dF, n, p) - expected), 1e-5f * std::max(1.0f, max_abs(expected))) << "particle " << p;
+    EXPECT_LE(max_abs(matrix(result_dF, n, p) - expected), 1e-5f * std::max(1.0f, max_abs(expected)))
+        << "particle " << p;
   }
   for (Index i = 0; i < kLawActivationPlanes * n; ++i)
     EXPECT_NEAR(result_rows[i], expected_rows[i], 1e-5f * std::max(1.0f, std::abs(expected_rows[i])))
@@ -173,7 +179,9 @@ TEST(NeuralLaw, WeightGradientsAreTheSumsOverParticles) {
     const LawWeights<float> dW_view = Weights::view(dW.data());
     law_backward<float>(exec, weights.on_device(), {1e-3f, true}, {F.data(), count}, {dY.data(), count},
                         activations.span(),
-                        {{dF.data(), count}, const_cast<float*>(dW_view.input), const_cast<float*>(dW_view.hidden),
+                        {{dF.data(), count},
+                         const_cast<float*>(dW_view.input),
+                         const_cast<float*>(dW_view.hidden),
                          const_cast<float*>(dW_view.output)});
     return std::pair{on_host(dF), on_host(dW)};
   };

@@ -174,8 +174,8 @@ TEST(DeformationMapEval, LinearBaselineHasItsClosedFormJacobian) {
   const Eigen::VectorXd xhat = Eigen::VectorXd::LinSpaced(r, 1.0, 2.0);
   const std::vector<Eigen::Vector3d> points = sample_points(50, 6);
   const Evaluation<double> e = evaluate<double>(map, 0, 0, xhat, points);
-  const Eigen::Matrix3d F = Eigen::Matrix3d::Identity() + map.u_std.asDiagonal() * map.weights[0].rightCols(3) *
-                                                            map.X_scale.asDiagonal();
+  const Eigen::Matrix3d F =
+      Eigen::Matrix3d::Identity() + map.u_std.asDiagonal() * map.weights[0].rightCols(3) * map.X_scale.asDiagonal();
   const Eigen::MatrixXd J = map.u_std.asDiagonal() * map.weights[0].leftCols(r);
   for (Index i = 0; i < e.n; ++i)
     for (int o = 0; o < 3; ++o) {
@@ -201,9 +201,15 @@ TEST(DeformationMapEval, OutputsLeftEmptyAreSkippedAndTheOthersUnchanged) {
     for (int c = 0; c < 3; ++c) X_host[c * n + i] = points[i](c);
   const auto X_points = DeviceBuffer<double>::from_host(exec.backend, X_host, exec.stream);
   DeviceBuffer<double> F(exec.backend, 9 * n);
-  DeformationMapView<double> map{r, hidden, width, Span<const double>(parameters.data(), parameters.size()), nullptr,
-                                 vec3<double>(reference.X_min), vec3<double>(reference.X_scale),
-                                 vec3<double>(reference.u_mean), vec3<double>(reference.u_std)};
+  DeformationMapView<double> map{r,
+                                 hidden,
+                                 width,
+                                 Span<const double>(parameters.data(), parameters.size()),
+                                 nullptr,
+                                 vec3<double>(reference.X_min),
+                                 vec3<double>(reference.X_scale),
+                                 vec3<double>(reference.u_mean),
+                                 vec3<double>(reference.u_std)};
   DeformationMapOutputs<double> only_F;
   only_F.F = Mat3Planes<double>(F.data(), n);
   evaluate_deformation_map<double>(exec, map, Span<const double>(xhat_buffer.data(), r),

@@ -105,9 +105,9 @@ class QuadratureFixture : public ::testing::Test {
     const auto X = DeviceBuffer<float>::from_host(exec.backend, points, exec.stream);
     const auto xhat_buffer = DeviceBuffer<float>::from_host(exec.backend, latent(xhat), exec.stream);
     DeviceBuffer<float> x_out(exec.backend, 3 * n), F_out(exec.backend, 9 * n), dg_out(exec.backend, 3 * kLatent * n);
-    evaluate_deformation_map<float>(exec, map.view, xhat_buffer.span(), Vec3Planes<const float>(X.data(), n),
-                                    {Vec3Planes<float>(x_out.data(), n), Mat3Planes<float>(F_out.data(), n),
-                                     dg_out.span()});
+    evaluate_deformation_map<float>(
+        exec, map.view, xhat_buffer.span(), Vec3Planes<const float>(X.data(), n),
+        {Vec3Planes<float>(x_out.data(), n), Mat3Planes<float>(F_out.data(), n), dg_out.span()});
     x = x_out.to_host(exec.stream);
     F = F_out.to_host(exec.stream);
     dg = dg_out.to_host(exec.stream);
@@ -116,8 +116,7 @@ class QuadratureFixture : public ::testing::Test {
   // Runs the quadrature at the current positions of `truth` (g in double), from `X_guess` and
   // `F_guess` (planes), then evaluates the map at the points it returned.
   Quadrature run(const std::vector<Eigen::Vector3d>& truth, const std::vector<float>& X_guess,
-                 const std::vector<float>& F_guess, int iterations = 20,
-                 MapKernel kernel = MapKernel::Fastest) const {
+                 const std::vector<float>& F_guess, int iterations = 20, MapKernel kernel = MapKernel::Fastest) const {
     const Exec& exec = test::exec();
     const Index n = Index(truth.size());
     std::vector<Eigen::Vector3d> current;
@@ -136,9 +135,16 @@ class QuadratureFixture : public ::testing::Test {
     InversionOptions options;
     options.iterations = iterations;
     options.tolerance = kTolerance;
-    const EulerianPointsOut out{Vec3Planes<float>(X.data(), n), Vec3Planes<float>(v.data(), n),
-                                Mat3Planes<float>(F.data(), n), mass.span(), volume0.span(), material.span(),
-                                status.span(), steps.span(), evaluations.span(), jacobian_evaluations.span()};
+    const EulerianPointsOut out{Vec3Planes<float>(X.data(), n),
+                                Vec3Planes<float>(v.data(), n),
+                                Mat3Planes<float>(F.data(), n),
+                                mass.span(),
+                                volume0.span(),
+                                material.span(),
+                                status.span(),
+                                steps.span(),
+                                evaluations.span(),
+                                jacobian_evaluations.span()};
     eulerian_quadrature(exec, map.view, xhat_buffer.span(), vhat_buffer.span(), body.occupancy, body.density.span(),
                         kVolume, options, Vec3Planes<const float>(x.data(), n),
                         Vec3Planes<const float>(guess.data(), n), Mat3Planes<const float>(guess_F.data(), n), out,
@@ -168,7 +174,8 @@ class QuadratureFixture : public ::testing::Test {
     std::mt19937 random(5);
     std::uniform_real_distribution<double> offset(-0.06, 0.06);
     std::vector<Eigen::Vector3d> nearby;
-    for (const Eigen::Vector3d& X : truth) nearby.push_back(X + Eigen::Vector3d(offset(random), offset(random), offset(random)));
+    for (const Eigen::Vector3d& X : truth)
+      nearby.push_back(X + Eigen::Vector3d(offset(random), offset(random), offset(random)));
     std::vector<float> x_near, dg;
     evaluate(planes(nearby), x_near, F_guess, dg);
     const std::size_t n = truth.size();
@@ -244,8 +251,8 @@ TEST_F(EulerianQuadrature, ConvergesFromPoorOrUnusableJacobianEstimates) {
 TEST_F(EulerianQuadrature, DropsPointsOutsideTheBodyAndThoseItCannotInvert) {
   // Half a cell beyond the body's faces (inverted, then found outside), and ten cells beyond (dropped
   // without inverting: the guess lies past the margin).
-  const std::vector<Eigen::Vector3d> truth = {{-0.11, 0.4, 0.15}, {0.21, 0.4, 0.15}, {0.05, 0.61, 0.15},
-                                              {0.05, 0.4, -0.15}};
+  const std::vector<Eigen::Vector3d> truth = {
+      {-0.11, 0.4, 0.15}, {0.21, 0.4, 0.15}, {0.05, 0.61, 0.15}, {0.05, 0.4, -0.15}};
   const std::size_t n = truth.size();
   std::vector<float> X_guess = planes(truth), F_guess(9 * n, 0.0f);
   for (std::size_t i = 0; i < n; ++i) X_guess[n + i] += 0.002f;  // so that the near points need steps
@@ -287,7 +294,8 @@ TEST_F(EulerianQuadraturePaperMap, FixedShapeKernelFindsWhatTheGenericOneFinds) 
     EXPECT_NEAR(fixed.v[k], generic.v[k], 1e-5f) << k;
   }
   for (std::size_t k = 0; k < fixed.F.size(); ++k) EXPECT_NEAR(fixed.F[k], generic.F[k], 1e-5f) << k;
-  for (std::size_t i = 0; i < fixed.mass.size(); ++i) EXPECT_NEAR(fixed.mass[i], generic.mass[i], 1e-5f * 1000.0f * kVolume);
+  for (std::size_t i = 0; i < fixed.mass.size(); ++i)
+    EXPECT_NEAR(fixed.mass[i], generic.mass[i], 1e-5f * 1000.0f * kVolume);
 }
 
 // The inversion's cost as the kernel counts it: a point whose guess is its solution takes the evaluation

@@ -76,10 +76,10 @@ struct Projection {
   }
 
   void run(bool extrapolate, GaussNewtonOptions options = {}) {
-    project_positions(test::exec(), map.view, options, extrapolate,
-                      {Vec3Planes<const float>(X.data(), m), Vec3Planes<const float>(target.data(), m),
-                       Vec3Planes<float>(model.data(), m), dg.span(), system.span(), history.span(), latent.span(),
-                       state.span()});
+    project_positions(
+        test::exec(), map.view, options, extrapolate,
+        {Vec3Planes<const float>(X.data(), m), Vec3Planes<const float>(target.data(), m),
+         Vec3Planes<float>(model.data(), m), dg.span(), system.span(), history.span(), latent.span(), state.span()});
   }
   std::vector<float> xhat() const {
     const std::vector<float> all = latent.to_host();

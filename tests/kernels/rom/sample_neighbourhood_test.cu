@@ -95,10 +95,11 @@ std::multiset<Point> host_reference(const Samples& s, int l, bool prune) {
           }
           const mpm::QuadraticStencil<float> stencil(x, 1.0f / kDx);
           if (prune && !near.count({stencil.base[0], stencil.base[1], stencil.base[2]})) continue;
-          const Vec3<double> step = det > 0.0 ? (offset[0] * cross(F.row(1), F.row(2)) + offset[1] * cross(F.row(2), F.row(0)) +
-                                                 offset[2] * cross(F.row(0), F.row(1))) *
-                                                    (1.0 / det)
-                                              : offset;
+          const Vec3<double> step =
+              det > 0.0 ? (offset[0] * cross(F.row(1), F.row(2)) + offset[1] * cross(F.row(2), F.row(0)) +
+                           offset[2] * cross(F.row(0), F.row(1))) *
+                              (1.0 / det)
+                        : offset;
           for (int a = 0; a < 3; ++a) {
             p[a] = x[a];
             p[3 + a] = float(s.X[a * s.m + i] + step[a]);

@@ -32,8 +32,7 @@ std::string describe(const Mat3<double>& a) {
 
 // A batch of n 3x3 matrices (or 3-vectors) in planes on the test backend.
 struct Planes {
-  Planes(const Exec& exec, Index count, int components)
-      : count(count), buffer(exec.backend, components * count) {}
+  Planes(const Exec& exec, Index count, int components) : count(count), buffer(exec.backend, components * count) {}
   Index count;
   DeviceBuffer<double> buffer;
   Mat3Planes<double> matrices() { return {buffer.data(), count}; }
@@ -264,9 +263,11 @@ TEST(Svd3Backward, FiniteForRepeatedAndDegenerateSingularValues) {
     switch (i % 5) {
       case 0: inputs.push_back(sampler.with_singular_values(a, a, sampler.uniform(0.1, 0.4))); break;
       case 1: inputs.push_back(sampler.with_singular_values(a, a * (1 + 1e-12), a * (1 - 1e-12))); break;
-      case 2: inputs.push_back(sampler.with_singular_values(a, sampler.uniform(0.1, 0.4), -sampler.uniform(0.1, 0.4))); break;
+      case 2:
+        inputs.push_back(sampler.with_singular_values(a, sampler.uniform(0.1, 0.4), -sampler.uniform(0.1, 0.4)));
+        break;
       case 3: inputs.push_back(sampler.with_singular_values(a, a, -a)); break;  // σ₁ + σ₂ = 0
-      default: inputs.push_back(sampler.with_singular_values(a, 0, 0)); break;   // rank 1
+      default: inputs.push_back(sampler.with_singular_values(a, 0, 0)); break;  // rank 1
     }
   }
   const std::vector<LossWeights> weights = random_weights(sampler, inputs.size());

@@ -134,9 +134,10 @@ TYPED_TEST_SUITE(Svd3Accuracy, Scalars);
 TYPED_TEST(Svd3Accuracy, RandomMatricesWithLogUniformSingularValues) {
   test::MatrixSampler sampler(1);
   expect_accurate_svd<TypeParam>("log-uniform σ in [1e-4, 1e4]", sample(kSamples, [&] {
-    return sampler.with_singular_values(sampler.log_uniform(1e-4, 1e4), sampler.log_uniform(1e-4, 1e4),
-                                        sampler.random_sign() * sampler.log_uniform(1e-4, 1e4));
-  }));
+                                   return sampler.with_singular_values(
+                                       sampler.log_uniform(1e-4, 1e4), sampler.log_uniform(1e-4, 1e4),
+                                       sampler.random_sign() * sampler.log_uniform(1e-4, 1e4));
+                                 }));
 }
 
 TYPED_TEST(Svd3Accuracy, GaussianMatrices) {
@@ -157,41 +158,43 @@ TYPED_TEST(Svd3Accuracy, IdentityAndItsMultiples) {
 TYPED_TEST(Svd3Accuracy, DiagonalMatricesOfAnySignAndOrder) {
   test::MatrixSampler sampler(4);
   expect_accurate_svd<TypeParam>("diagonal", sample(kSamples, [&] {
-    return Mat3<double>::diag(sampler.uniform(-2, 2), sampler.uniform(-2, 2), sampler.uniform(-2, 2));
-  }));
+                                   return Mat3<double>::diag(sampler.uniform(-2, 2), sampler.uniform(-2, 2),
+                                                             sampler.uniform(-2, 2));
+                                 }));
 }
 
 TYPED_TEST(Svd3Accuracy, ExactlyRepeatedSingularValues) {
   test::MatrixSampler sampler(5);
   expect_accurate_svd<TypeParam>("exactly repeated", sample(kSamples, [&] {
-    const double a = sampler.uniform(0.1, 2), b = sampler.uniform(0.1, 2);
-    switch (int(sampler.uniform(0, 3))) {
-      case 0: return sampler.with_singular_values(a, a, b);
-      case 1: return sampler.with_singular_values(a, b, b);
-      default: return sampler.with_singular_values(a, a, a);
-    }
-  }));
-  expect_accurate_svd<TypeParam>("exactly repeated, diagonal",
-                                 {Mat3<double>::diag(2, 2, 1), Mat3<double>::diag(1, 2, 2), Mat3<double>::diag(2, 1, 2)});
+                                   const double a = sampler.uniform(0.1, 2), b = sampler.uniform(0.1, 2);
+                                   switch (int(sampler.uniform(0, 3))) {
+                                     case 0: return sampler.with_singular_values(a, a, b);
+                                     case 1: return sampler.with_singular_values(a, b, b);
+                                     default: return sampler.with_singular_values(a, a, a);
+                                   }
+                                 }));
+  expect_accurate_svd<TypeParam>(
+      "exactly repeated, diagonal",
+      {Mat3<double>::diag(2, 2, 1), Mat3<double>::diag(1, 2, 2), Mat3<double>::diag(2, 1, 2)});
 }
 
 TYPED_TEST(Svd3Accuracy, NearlyRepeatedSingularValues) {
   test::MatrixSampler sampler(6);
   expect_accurate_svd<TypeParam>("nearly repeated", sample(kSamples, [&] {
-    const double a = sampler.uniform(0.1, 2);
-    return sampler.with_singular_values(a, a * (1 + sampler.log_uniform(1e-9, 1e-3)),
-                                        a * (1 - sampler.log_uniform(1e-9, 1e-3)));
-  }));
+                                   const double a = sampler.uniform(0.1, 2);
+                                   return sampler.with_singular_values(a, a * (1 + sampler.log_uniform(1e-9, 1e-3)),
+                                                                       a * (1 - sampler.log_uniform(1e-9, 1e-3)));
+                                 }));
 }
 
 TYPED_TEST(Svd3Accuracy, RankTwoOneAndZero) {
   test::MatrixSampler sampler(7);
   expect_accurate_svd<TypeParam>("rank 2", sample(kSamples, [&] {
-    return sampler.with_singular_values(sampler.uniform(0.1, 2), sampler.uniform(0.1, 2), 0);
-  }));
-  expect_accurate_svd<TypeParam>("rank 1", sample(kSamples, [&] {
-    return sampler.with_singular_values(sampler.uniform(0.1, 2), 0, 0);
-  }));
+                                   return sampler.with_singular_values(sampler.uniform(0.1, 2), sampler.uniform(0.1, 2),
+                                                                       0);
+                                 }));
+  expect_accurate_svd<TypeParam>(
+      "rank 1", sample(kSamples, [&] { return sampler.with_singular_values(sampler.uniform(0.1, 2), 0, 0); }));
   expect_accurate_svd<TypeParam>("rank 0", {Mat3<double>::zero()});
 }
 
@@ -211,24 +214,26 @@ TYPED_TEST(Svd3Accuracy, InvertedMatrixCarriesSignInSmallestSingularValue) {
 TYPED_TEST(Svd3Accuracy, NearlyFlatElement) {
   test::MatrixSampler sampler(9);
   expect_accurate_svd<TypeParam>("σ₂ = ±1e-7", sample(kSamples, [&] {
-    return sampler.with_singular_values(sampler.uniform(0.5, 2), sampler.uniform(0.5, 2), sampler.random_sign() * 1e-7);
-  }));
+                                   return sampler.with_singular_values(sampler.uniform(0.5, 2), sampler.uniform(0.5, 2),
+                                                                       sampler.random_sign() * 1e-7);
+                                 }));
 }
 
 TYPED_TEST(Svd3Accuracy, ConditionNumber1e8) {
   test::MatrixSampler sampler(10);
   expect_accurate_svd<TypeParam>("condition 1e8", sample(kSamples, [&] {
-    return sampler.with_singular_values(1.0, sampler.log_uniform(1e-8, 1.0), 1e-8);
-  }));
+                                   return sampler.with_singular_values(1.0, sampler.log_uniform(1e-8, 1.0), 1e-8);
+                                 }));
 }
 
 TYPED_TEST(Svd3Accuracy, VeryLargeAndVerySmallScales) {
   test::MatrixSampler sampler(11);
   for (double scale : {1e15, 1e-15}) {
     expect_accurate_svd<TypeParam>("scale " + std::to_string(scale), sample(kSamples, [&] {
-      return scale * sampler.with_singular_values(sampler.log_uniform(1e-2, 1e2), sampler.log_uniform(1e-2, 1e2),
-                                                  sampler.random_sign() * sampler.log_uniform(1e-2, 1e2));
-    }));
+                                     return scale * sampler.with_singular_values(
+                                                        sampler.log_uniform(1e-2, 1e2), sampler.log_uniform(1e-2, 1e2),
+                                                        sampler.random_sign() * sampler.log_uniform(1e-2, 1e2));
+                                   }));
   }
 }
 
@@ -292,7 +297,8 @@ TEST(Svd3Batched, ZeroMatricesLaunchNothing) {
 
 TEST(Svd3Batched, MismatchedCountsAreRejected) {
   const Exec& exec = test::exec();
-  DeviceBuffer<float> F(exec.backend, 9 * 4), U(exec.backend, 9 * 4), sigma(exec.backend, 3 * 3), V(exec.backend, 9 * 4);
+  DeviceBuffer<float> F(exec.backend, 9 * 4), U(exec.backend, 9 * 4), sigma(exec.backend, 3 * 3),
+      V(exec.backend, 9 * 4);
   EXPECT_THROW(svd3_batched(exec, Mat3Planes<const float>(F.data(), 4), Mat3Planes<float>(U.data(), 4),
                             Vec3Planes<float>(sigma.data(), 3), Mat3Planes<float>(V.data(), 4)),
                Error);

@@ -102,7 +102,8 @@ TEST(DiffMpm, RolloutGradientsMatchCentralDifferences) {
   for (torch::Tensor* t : {&initial.x, &initial.v, &initial.C, &initial.F}) t->requires_grad_(true);
   const torch::Tensor youngs = torch::tensor(2e4, torch::kFloat64).requires_grad_(true);
   const torch::Tensor poisson = torch::tensor(0.3, torch::kFloat64).requires_grad_(true);
-  const ConstitutiveLaws laws{[&](const torch::Tensor& F) { return nclaw::fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
+  const ConstitutiveLaws laws{
+      [&](const torch::Tensor& F) { return nclaw::fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
   const RolloutOptions options{5, 0};
   const RandomLoss weights(options.steps, scene.sim.particle_count(), torch::kFloat64);
   const auto loss = [&] { return weights(rollout(scene.sim, initial, laws, options)); };
@@ -131,7 +132,8 @@ TEST(DiffMpm, NeuralLawRolloutGradientsMatchCentralDifferences) {
     plastic->parameters().back().mul_(1e2);
   }
   const ConstitutiveLaws laws{[&](const torch::Tensor& F) { return elastic->forward(F); },
-                              [&](const torch::Tensor& F) { return plastic->forward(F); }, {}};
+                              [&](const torch::Tensor& F) { return plastic->forward(F); },
+                              {}};
   const RolloutOptions options{5, 0};
   const RandomLoss weights(options.steps, scene.sim.particle_count(), torch::kFloat64);
   const auto loss = [&] { return weights(rollout(scene.sim, scene.initial, laws, options)); };
@@ -161,11 +163,12 @@ TEST(DiffMpm, CheckpointedRolloutMatchesFullGraph) {
     scene.initial.v.mutable_grad() = torch::Tensor();
     // E enters through a non-leaf tensor, which checkpointed segments must differentiate too.
     const torch::Tensor youngs = log_youngs.exp();
-    const ConstitutiveLaws laws{
-        [&](const torch::Tensor& F) { return elastic->forward(F) + nclaw::fixed_corotated_stress(F, youngs, torch::tensor(0.3, torch::kFloat64)); },
-        [&](const torch::Tensor& F) { return plastic->forward(F); },
-        {elastic->parameters()[0], elastic->parameters()[1], elastic->parameters()[2], plastic->parameters()[0],
-         plastic->parameters()[1], plastic->parameters()[2], youngs}};
+    const ConstitutiveLaws laws{[&](const torch::Tensor& F) {
+      return elastic->forward(F) + nclaw::fixed_corotated_stress(F, youngs, torch::tensor(0.3, torch::kFloat64));
+                                },
+                                [&](const torch::Tensor& F) { return plastic->forward(F); },
+                                {elastic->parameters()[0], elastic->parameters()[1], elastic->parameters()[2],
+                                 plastic->parameters()[0], plastic->parameters()[1], plastic->parameters()[2], youngs}};
     const torch::Tensor loss = weights(rollout(scene.sim, scene.initial, laws, {7, checkpoint_every}));
     loss.backward();
     std::vector<torch::Tensor>& result = results[checkpoint_every == 0 ? 0 : 1];
@@ -190,14 +193,16 @@ TEST(DiffMpm, FloatTrainingSceneRunsForwardAndBackward) {
   const DiffMpm sim(DiffMpmConfig{}, 1e3 * volume, volume);
   const torch::Tensor omega = torch::tensor({4.0f, 4.0f, 4.0f}).reshape({3, 1});
   const torch::Tensor arm = x - 0.5f;
-  const torch::Tensor v = (torch::tensor({1.0f, -1.5f, -2.0f}).reshape({3, 1}) + torch::cross(omega.expand({3, n}), arm, 0))
-                              .contiguous()
-                              .requires_grad_(true);
+  const torch::Tensor v =
+      (torch::tensor({1.0f, -1.5f, -2.0f}).reshape({3, 1}) + torch::cross(omega.expand({3, n}), arm, 0))
+          .contiguous()
+          .requires_grad_(true);
   const MpmState initial{x, v, torch::zeros({9, n}), torch::eye(3).reshape({9, 1}).expand({9, n}).contiguous()};
   nclaw::ElasticLaw elastic;
   nclaw::PlasticLaw plastic;
   const ConstitutiveLaws laws{[&](const torch::Tensor& F) { return elastic->forward(F); },
-                              [&](const torch::Tensor& F) { return plastic->forward(F); }, {}};
+                              [&](const torch::Tensor& F) { return plastic->forward(F); },
+                              {}};
   const Rollout result = rollout(sim, initial, laws, {20, 0});
   EXPECT_TRUE(torch::isfinite(result.positions).all().item<bool>());
   (1e4 * (result.positions - x.unsqueeze(0)).square().mean()).backward();

@@ -142,7 +142,8 @@ TEST_F(Hdf5File, ADamagedStringAttributeIsAnError) {
     out.close();
   }
   damage(path, "7f3a9c2e");
-  EXPECT_THROW(io::hdf5::File::open(path, io::hdf5::Mode::ReadOnly, "law file").read_string_attribute("material"), Error);
+  EXPECT_THROW(io::hdf5::File::open(path, io::hdf5::Mode::ReadOnly, "law file").read_string_attribute("material"),
+               Error);
 }
 
 // Damaged data is an error when read (each chunk's Fletcher-32 checksum), not a result.
@@ -158,7 +159,9 @@ TEST_F(Hdf5File, DamagedDatasetValuesAreAnError) {
   damage(path, pattern);
   const io::hdf5::File in = io::hdf5::File::open(path, io::hdf5::Mode::ReadOnly, "checkpoint");
   const std::string message = error_message([&] { in.read_dataset<std::int32_t>("ids", {4096}); });
-  EXPECT_NE(message.find("checkpoint " + path + ": dataset /ids: cannot read: data error detected by Fletcher32 checksum"), std::string::npos)
+  EXPECT_NE(
+      message.find("checkpoint " + path + ": dataset /ids: cannot read: data error detected by Fletcher32 checksum"),
+      std::string::npos)
       << message;
 }
 

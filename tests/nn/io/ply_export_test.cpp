@@ -59,8 +59,9 @@ TEST_F(Ply, PositionsVelocitiesAndMaterialRoundTrip) {
   const FrameData frame = random_frame(n, 0.0, 0, random);
   const std::vector<std::int32_t> material = random_header(n, random).material;
   const std::string path = file("points.ply");
-  write_ply(path, {Span<const float>(frame.x.data(), 3 * n), Span<const float>(frame.v.data(), 3 * n),
-                   Span<const std::int32_t>(material.data(), n)},
+  write_ply(path,
+            {Span<const float>(frame.x.data(), 3 * n), Span<const float>(frame.v.data(), 3 * n),
+             Span<const std::int32_t>(material.data(), n)},
             "romp test");
 
   const PlyFile ply = read_ply(path);

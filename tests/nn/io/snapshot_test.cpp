@@ -199,11 +199,13 @@ TEST_F(Snapshot, ResumeRejectsAFileOfAnotherRun) {
 
   SnapshotHeader other_scene = header;
   other_scene.scene += "# changed\n";
-  EXPECT_NE(error_message([&] { SnapshotWriter::resume(path, other_scene, kAllFields, 1); })
-                .find("was written for another scene"),
+  EXPECT_NE(error_message([&] {
+              SnapshotWriter::resume(path, other_scene, kAllFields, 1);
+            }).find("was written for another scene"),
             std::string::npos);
-  EXPECT_NE(error_message([&] { SnapshotWriter::resume(path, header, kFieldX, 1); })
-                .find("holds the fields x, v, F, C, this run writes x"),
+  EXPECT_NE(error_message([&] {
+              SnapshotWriter::resume(path, header, kFieldX, 1);
+            }).find("holds the fields x, v, F, C, this run writes x"),
             std::string::npos);
   EXPECT_EQ(error_message([&] { SnapshotWriter::resume(path, header, kAllFields, 3); }),
             "snapshot " + partial_path(path) + ": holds 2 complete frames, the resume needs 3");
@@ -226,8 +228,9 @@ TEST_F(Snapshot, ReaderRejectsAnHdf5FileThatIsNotASnapshot) {
     other.close();
   }
   EXPECT_EQ(error_message([&] { SnapshotReader reader(path); }),
-            "snapshot " + path + ": not a romp snapshot: root attribute format is \"romp-model\", expected "
-            "\"romp-snapshot\"");
+            "snapshot " + path +
+                ": not a romp snapshot: root attribute format is \"romp-model\", expected "
+                "\"romp-snapshot\"");
 }
 
 TEST_F(Snapshot, ReaderRejectsANewerFormatVersion) {

@@ -18,7 +18,8 @@ TEST(PositionError, IsTheMeanSquaredOffsetOfEveryFifthFrame) {
   const test::TinyGroundTruth truth = test::tiny_ground_truth(20);
   const diffmpm::DiffMpm sim(truth.config, truth.trajectory.mass, truth.trajectory.volume);
   const torch::Tensor youngs = torch::tensor(1e4f), poisson = torch::tensor(0.3f);
-  const diffmpm::ConstitutiveLaws law{[&](const torch::Tensor& F) { return fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
+  const diffmpm::ConstitutiveLaws law{
+      [&](const torch::Tensor& F) { return fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
   EXPECT_EQ(position_error(sim, truth.trajectory, law, 20), 0.0);
 
   // Frames 5, 10, 15, 20 moved by 0.01 m along x: MSE over three axes (0.01² / 3); other frames

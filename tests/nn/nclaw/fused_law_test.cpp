@@ -20,7 +20,8 @@ torch::TensorOptions options(torch::ScalarType dtype) { return torch::TensorOpti
 // Weights at 3× Xavier scale, so that the GELUs work off their linear part.
 LawParameters random_parameters(torch::ScalarType dtype) {
   const auto weight = [&](int64_t outputs, int64_t inputs) {
-    return (3.0 * std::sqrt(6.0 / double(outputs + inputs)) * (2.0 * torch::rand({outputs, inputs}, options(dtype)) - 1.0))
+    return (3.0 * std::sqrt(6.0 / double(outputs + inputs)) *
+            (2.0 * torch::rand({outputs, inputs}, options(dtype)) - 1.0))
         .requires_grad_(true);
   };
   return {weight(kLawWidth, kLawInputs), weight(kLawWidth, kLawWidth), weight(kLawOutputs, kLawWidth)};
@@ -29,7 +30,8 @@ LawParameters random_parameters(torch::ScalarType dtype) {
 // F near I (the training range), stretched, and inverted ones: [9, n].
 torch::Tensor deformations(int64_t n, torch::ScalarType dtype) {
   torch::Tensor F = torch::eye(3, options(dtype)).reshape({9, 1}) + 0.4 * torch::randn({9, n}, options(dtype));
-  F.narrow(1, 0, n / 4).mul_(torch::tensor({1.0, 1.0, 1.0, 1.0, 1.0, 1.0, -1.0, -1.0, -1.0}, options(dtype)).reshape({9, 1}));
+  F.narrow(1, 0, n / 4)
+      .mul_(torch::tensor({1.0, 1.0, 1.0, 1.0, 1.0, 1.0, -1.0, -1.0, -1.0}, options(dtype)).reshape({9, 1}));
   return F;
 }
 
@@ -58,7 +60,9 @@ void expect_same_law(torch::ScalarType dtype, double tolerance) {
   const torch::Tensor F = deformations(n, dtype), upstream = torch::randn({9, n}, options(dtype));
   for (const auto& [scale, adds_input] : {std::pair{1.0, false}, std::pair{kPlasticStep, true}}) {
     SCOPED_TRACE(adds_input ? "plastic form" : "elastic form");
-    const auto fused = [&](const torch::Tensor& f, const LawParameters& p) { return fused_law(f, p, scale, adds_input); };
+    const auto fused = [&](const torch::Tensor& f, const LawParameters& p) {
+      return fused_law(f, p, scale, adds_input);
+    };
     const auto reference = [&](const torch::Tensor& f, const LawParameters& p) {
       return composed_law(f, p, scale, adds_input);
     };
@@ -128,9 +132,10 @@ TEST(FusedLaw, ATrainingSegmentMakesNoHostRoundTrip) {
   const int64_t n = 64;
   const diffmpm::DiffMpm sim(diffmpm::DiffMpmConfig{}, torch::full({n}, 1e-3), torch::full({n}, 1e-6));
   const diffmpm::MpmState initial{0.4 + 0.2 * torch::rand({3, n}), torch::zeros({3, n}), torch::zeros({9, n}),
-                         torch::eye(3).reshape({9, 1}).expand({9, n}).contiguous()};
+                                  torch::eye(3).reshape({9, 1}).expand({9, n}).contiguous()};
   const NeuralLaws laws = seeded_laws(15, torch::TensorOptions().dtype(torch::kFloat32));
-  const diffmpm::Rollout warm_up = diffmpm::rollout(sim, initial, laws.constitutive(), {2, 0});  // first-use allocations
+  const diffmpm::Rollout warm_up =
+      diffmpm::rollout(sim, initial, laws.constitutive(), {2, 0});  // first-use allocations
   warm_up.positions.sum().backward();
   const memory::Traffic before = memory::traffic();
   const diffmpm::Rollout segment = diffmpm::rollout(sim, initial, laws.constitutive(), {10, 0});

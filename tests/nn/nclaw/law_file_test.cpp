@@ -79,7 +79,8 @@ TEST(LawFile, RejectsDamagedFilesNamingWhatIsWrong) {
     io::hdf5::File file = io::hdf5::File::open(path, io::hdf5::Mode::ReadWrite, "neural law");
     file.write_attribute("format", "romp-snapshot");
   }
-  EXPECT_NE(read_error(path).find("root attribute format is \"romp-snapshot\", expected \"romp-neural-law\""), std::string::npos)
+  EXPECT_NE(read_error(path).find("root attribute format is \"romp-snapshot\", expected \"romp-neural-law\""),
+            std::string::npos)
       << read_error(path);
 }
 

@@ -23,7 +23,8 @@ torch::Tensor random_rotations(int64_t n, torch::ScalarType dtype) {
 
 // F = U diag(σ) Vᵀ [9, n] with σ log-uniform in [low, high]; det F < 0 for every other matrix.
 torch::Tensor deformations(int64_t n, double low, double high, torch::ScalarType dtype) {
-  torch::Tensor sigma = torch::exp(std::log(low) + (std::log(high) - std::log(low)) * torch::rand({n, 3}, options(dtype)));
+  torch::Tensor sigma =
+      torch::exp(std::log(low) + (std::log(high) - std::log(low)) * torch::rand({n, 3}, options(dtype)));
   torch::Tensor flip = torch::ones({n, 3}, options(dtype));
   flip.index_put_({torch::indexing::Slice(0, torch::indexing::None, 2), 2}, -1.0);
   sigma = sigma * flip;
@@ -67,10 +68,10 @@ TEST(NeuralLaws, RotatingFRotatesTheirOutputs) {
   const torch::Tensor F = deformations(kCount, 0.3, 3.0, dtype);
   const torch::Tensor Q = random_rotations(kCount, dtype);
   const torch::Tensor rotated = matrices_to_planes(torch::bmm(Q, planes_to_matrices(F)));
-  for (const auto& law : {std::function<torch::Tensor(const torch::Tensor&)>(
-                              [&](const torch::Tensor& f) { return elastic->forward(f); }),
-                          std::function<torch::Tensor(const torch::Tensor&)>(
-                              [&](const torch::Tensor& f) { return plastic->forward(f); })}) {
+  for (const auto& law :
+       {std::function<torch::Tensor(const torch::Tensor&)>([&](const torch::Tensor& f) { return elastic->forward(f); }),
+        std::function<torch::Tensor(const torch::Tensor&)>(
+            [&](const torch::Tensor& f) { return plastic->forward(f); })}) {
     const torch::Tensor expected = torch::bmm(Q, planes_to_matrices(law(F)));
     const torch::Tensor result = planes_to_matrices(law(rotated));
     EXPECT_LE(max_abs(result - expected), 1e-6 * max_abs(expected));

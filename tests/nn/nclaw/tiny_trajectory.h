@@ -33,9 +33,11 @@ inline TinyGroundTruth tiny_ground_truth(int64_t steps) {
   const torch::Tensor volume = torch::full({n}, 0.05f * 0.05f * 0.05f, f32);
   const diffmpm::DiffMpm sim(config, 1e3 * volume, volume);
   const torch::Tensor v = torch::tensor({0.5f, -2.0f, 0.3f}, f32).reshape({3, 1}).expand({3, n}).contiguous();
-  const diffmpm::MpmState initial{x, v, torch::zeros({9, n}, f32), torch::eye(3, f32).reshape({9, 1}).expand({9, n}).contiguous()};
+  const diffmpm::MpmState initial{x, v, torch::zeros({9, n}, f32),
+                                  torch::eye(3, f32).reshape({9, 1}).expand({9, n}).contiguous()};
   const torch::Tensor youngs = torch::tensor(1e4, f32), poisson = torch::tensor(0.3, f32);
-  const diffmpm::ConstitutiveLaws law{[&](const torch::Tensor& F) { return nclaw::fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
+  const diffmpm::ConstitutiveLaws law{
+      [&](const torch::Tensor& F) { return nclaw::fixed_corotated_stress(F, youngs, poisson); }, {}, {}};
   return {config, nclaw::simulate(sim, initial, law, steps)};
 }
 

@@ -66,7 +66,8 @@ TEST_F(TrajectoryLoss, MatchesTheLossWrittenOutSegmentBySegment) {
   for (double velocity_weight : {0.0, 0.02}) {
     SCOPED_TRACE(velocity_weight);
     const double value = backpropagate_trajectory_loss(sim, truth.trajectory, laws.constitutive(),
-                                                       {kSteps, kPeriod, kScale, 0, velocity_weight}).value;
+                                                       {kSteps, kPeriod, kScale, 0, velocity_weight})
+                             .value;
     const std::vector<torch::Tensor> gradients = take_gradients();
     const double expected = loss_by_hand(velocity_weight);
     EXPECT_NEAR(value, expected, 1e-5 * expected);
@@ -88,8 +89,9 @@ TEST_F(TrajectoryLoss, VelocityPenaltyAddsToThePositionLoss) {
 }
 
 TEST_F(TrajectoryLoss, RejectsANegativeVelocityWeight) {
-  EXPECT_THROW(backpropagate_trajectory_loss(sim, truth.trajectory, laws.constitutive(), {kSteps, kPeriod, kScale, 0, -1.0}),
-               Error);
+  EXPECT_THROW(
+      backpropagate_trajectory_loss(sim, truth.trajectory, laws.constitutive(), {kSteps, kPeriod, kScale, 0, -1.0}),
+      Error);
 }
 
 }  // namespace

@@ -33,8 +33,8 @@ struct Inputs {
 Inputs random_inputs() {
   torch::manual_seed(11);
   const auto options = torch::TensorOptions(torch::kFloat64);
-  return {torch::randn({kPoints, kLatent}, options), torch::rand({kPoints, 3}, options) * values({2.0, 2.0, 0.3}) +
-                                                         values({-1.0, 0.0, 0.5})};
+  return {torch::randn({kPoints, kLatent}, options),
+          torch::rand({kPoints, 3}, options) * values({2.0, 2.0, 0.3}) + values({-1.0, 0.0, 0.5})};
 }
 
 // Central differences of g along coordinate `k` of `input` (X or x̂): [N, 3].
@@ -61,8 +61,7 @@ TEST_P(ManifoldDerivatives, MatchCentralFiniteDifferences) {
     EXPECT_TRUE(torch::allclose(j.F.select(2, k), finite_difference(*g, in, true, k), 1e-7, 1e-8)) << "∂x/∂X_" << k;
   }
   for (std::int64_t k = 0; k < kLatent; ++k) {
-    EXPECT_TRUE(torch::allclose(j.dx.select(2, k), finite_difference(*g, in, false, k), 1e-7, 1e-8))
-        << "∂x/∂x̂_" << k;
+    EXPECT_TRUE(torch::allclose(j.dx.select(2, k), finite_difference(*g, in, false, k), 1e-7, 1e-8)) << "∂x/∂x̂_" << k;
   }
 }
 
@@ -77,21 +76,24 @@ TEST_P(ManifoldDerivatives, DirectionalTangentIsTheJacobianTimesTheDirection) {
   EXPECT_TRUE(torch::allclose(along.F, full.F, 1e-12, 1e-12));
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    MethodsAndDepths, ManifoldDerivatives,
-    ::testing::Combine(::testing::Values(DerivativeMethod::Analytic, DerivativeMethod::Autograd),
-                       ::testing::Values(std::int64_t(5), std::int64_t(0))),
-    [](const auto& info) {
-      return std::string(to_string(std::get<0>(info.param))) + (std::get<1>(info.param) == 0 ? "Linear" : "Mlp");
-    });
+INSTANTIATE_TEST_SUITE_P(MethodsAndDepths, ManifoldDerivatives,
+                         ::testing::Combine(::testing::Values(DerivativeMethod::Analytic, DerivativeMethod::Autograd),
+                                            ::testing::Values(std::int64_t(5), std::int64_t(0))),
+                         [](const auto& info) {
+  return std::string(to_string(std::get<0>(info.param))) + (std::get<1>(info.param) == 0 ? "Linear" : "Mlp");
+});
 
 TEST(ManifoldDerivatives, LossGradientsAgreeBetweenMethods) {
   const DeformationMap g = double_map(5);
   const Inputs in = random_inputs();
   const auto options = torch::TensorOptions(torch::kFloat64);
   const torch::Tensor xhat = in.xhat.clone().requires_grad_(true);
-  LossBatch batch{xhat, torch::randn({kPoints, kLatent}, options), in.X, torch::randn({kPoints, 3}, options),
-                  torch::randn({kPoints, 3}, options), torch::randn({kPoints, 3, 3}, options),
+  LossBatch batch{xhat,
+                  torch::randn({kPoints, kLatent}, options),
+                  in.X,
+                  torch::randn({kPoints, 3}, options),
+                  torch::randn({kPoints, 3}, options),
+                  torch::randn({kPoints, 3, 3}, options),
                   (torch::arange(kPoints) % 3 != 0).to(torch::kFloat64)};
   std::vector<std::vector<torch::Tensor>> gradients;
   for (DerivativeMethod method : {DerivativeMethod::Analytic, DerivativeMethod::Autograd}) {

@@ -73,7 +73,8 @@ TEST(RomDataset, SnapshotWithoutDeformationGradientsIsRejectedNamingIt) {
     io::hdf5::File file = io::hdf5::File::open(folder.file("member_000001.h5"), io::hdf5::Mode::ReadWrite, "snapshot");
     file.write_attribute("fields", std::vector<std::string>{"x", "v"});
   }
-  const std::string message = test::error_message<io::UnusableFileError>([&] { load_rom_dataset(folder.path().string(), {}); });
+  const std::string message =
+      test::error_message<io::UnusableFileError>([&] { load_rom_dataset(folder.path().string(), {}); });
   EXPECT_NE(message.find("member_000001.h5"), std::string::npos) << message;
   EXPECT_NE(message.find("lacks \"F\""), std::string::npos) << message;
 }
@@ -84,9 +85,10 @@ TEST(RomDataset, ADeeplyNestedMemberIsRefusedByItsPlace) {
   const test::ScratchFolder folder;
   const int depth = 200000;
   std::ofstream(folder.file("manifest.json"))
-      << R"({"format": "romp-sweep", "format_version": 1, "parameters": ["a"], "members": [)"
-      << std::string(depth, '[') << std::string(depth, ']') << "]}";
-  const std::string message = test::error_message<io::UnusableFileError>([&] { load_rom_dataset(folder.path().string(), {}); });
+      << R"({"format": "romp-sweep", "format_version": 1, "parameters": ["a"], "members": [)" << std::string(depth, '[')
+      << std::string(depth, ']') << "]}";
+  const std::string message =
+      test::error_message<io::UnusableFileError>([&] { load_rom_dataset(folder.path().string(), {}); });
   EXPECT_NE(message.find("manifest.json: members[0] (a JSON array)"), std::string::npos) << message;
   EXPECT_LT(message.size(), 500u) << "the error quotes the member";
 }
@@ -114,7 +116,8 @@ TEST(RomDataset, ManifestsOfTheWrongFormOrContentAreUnusableInputs) {
 
 TEST(RomDataset, FolderWithoutManifestIsRejected) {
   const test::ScratchFolder folder;
-  const std::string message = test::error_message<io::UnusableFileError>([&] { load_rom_dataset(folder.path().string(), {}); });
+  const std::string message =
+      test::error_message<io::UnusableFileError>([&] { load_rom_dataset(folder.path().string(), {}); });
   EXPECT_NE(message.find("no manifest.json"), std::string::npos) << message;
   EXPECT_NE(message.find(folder.path().string()), std::string::npos) << message;
 }

@@ -94,11 +94,13 @@ TEST(RomTrainer, ReportsEstimateTheTestErrorsFromAFewPoints) {
   EXPECT_LE(reports.back().test_points, 16);
 
   const ReconstructionErrors all = reconstruction_errors(result.model, data.X, data.test);
-  const ReconstructionErrors also_all = reconstruction_errors(result.model, data.X, data.test, DerivativeMethod::Analytic, P);
+  const ReconstructionErrors also_all =
+      reconstruction_errors(result.model, data.X, data.test, DerivativeMethod::Analytic, P);
   EXPECT_EQ(also_all.position, all.position);
   EXPECT_EQ(also_all.F, all.F);
   EXPECT_EQ(all.position, result.model.training.test_errors.position);
-  const ReconstructionErrors estimate = reconstruction_errors(result.model, data.X, data.test, DerivativeMethod::Analytic, P / 4);
+  const ReconstructionErrors estimate =
+      reconstruction_errors(result.model, data.X, data.test, DerivativeMethod::Analytic, P / 4);
   EXPECT_NEAR(estimate.position, all.position, 0.25 * all.position);
   EXPECT_NEAR(estimate.F, all.F, 0.25 * all.F);
   EXPECT_NE(estimate.position, all.position);  // fewer points were compared

@@ -49,12 +49,13 @@ struct TwistedBar {
       for (int f = 0; f < frames; ++f) writer.append_frame(frame(reference, twist(m), end_time * f / (frames - 1), f));
       writer.finish();
       const bool test = std::find(test_members.begin(), test_members.end(), m) != test_members.end();
-      entries += std::string(m ? ",\n" : "") + "{\"index\": " + std::to_string(m) + ", \"values\": {\"twist\": " +
-                 std::to_string(twist(m)) + "}, \"split\": \"" + (test ? "test" : "train") +
-                 "\", \"snapshot\": \"" + name + "\"}";
+      entries += std::string(m ? ",\n" : "") + "{\"index\": " + std::to_string(m) +
+                 ", \"values\": {\"twist\": " + std::to_string(twist(m)) + "}, \"split\": \"" +
+                 (test ? "test" : "train") + "\", \"snapshot\": \"" + name + "\"}";
     }
     std::ofstream(dir / "manifest.json") << "{\"format\": \"romp-sweep\", \"format_version\": 1, "
-                                         << "\"parameters\": [\"twist\"], \"members\": [\n" << entries << "]}\n";
+                                         << "\"parameters\": [\"twist\"], \"members\": [\n"
+                                         << entries << "]}\n";
   }
 
   std::vector<std::array<double, 3>> reference_positions() const {
