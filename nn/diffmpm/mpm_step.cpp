@@ -137,6 +137,8 @@ DiffMpm::DiffMpm(const DiffMpmConfig& config, torch::Tensor mass, torch::Tensor 
                  volume_.device() == mass_.device(),
              "DiffMpm: volume must match mass [n] in dtype and device");
   ROMP_CHECK(config.fixed_dt > 0.0 && config.dx > 0.0, "DiffMpm: fixed_dt and dx must be positive");
+  // The wall rule's adjoint is a mask, which Coulomb friction is not (mpm::wall_keep_mask).
+  ROMP_CHECK(config.wall_friction == 0.0, "DiffMpm: the walls are frictionless, wall_friction must be 0");
   for (int a = 0; a < 3; ++a)
     ROMP_CHECK(config.domain_cells[a] > 2, "DiffMpm: the domain needs more than 2 cells per axis (margins of 1 cell)");
 }
