@@ -1,11 +1,14 @@
-// A recursive-descent evaluator for scene-file formulas (no allocation beyond the error text).
+// A recursive-descent compiler of scene-file formulas to postfix operations, and their evaluation.
 #include "host/scene/expression.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <iterator>
+#include <utility>
 #include <vector>
 
 #include "kernels/core/error.h"
@@ -21,66 +24,94 @@ constexpr int kMaxNesting = 256;
 // How much of a long formula an error message quotes.
 constexpr std::size_t kQuotedLength = 80;
 
+using Operation = Formula::Operation;
+using Kind = Operation::Kind;
+
+using UnaryFunction = double (*)(double);
+constexpr std::pair<const char*, UnaryFunction> kUnary[] = {
+    {"sin", [](double a) { return std::sin(a); }},         {"cos", [](double a) { return std::cos(a); }},
+    {"tan", [](double a) { return std::tan(a); }},         {"asin", [](double a) { return std::asin(a); }},
+    {"acos", [](double a) { return std::acos(a); }},       {"atan", [](double a) { return std::atan(a); }},
+    {"sqrt", [](double a) { return std::sqrt(a); }},       {"exp", [](double a) { return std::exp(a); }},
+    {"log", [](double a) { return std::log(a); }},         {"abs", [](double a) { return std::fabs(a); }},
+    {"radians", [](double a) { return a * kPi / 180.0; }}, {"degrees", [](double a) { return a * 180.0 / kPi; }},
+};
+using BinaryFunction = double (*)(double, double);
+constexpr std::pair<const char*, BinaryFunction> kBinary[] = {
+    {"atan2", [](double a, double b) { return std::atan2(a, b); }},
+    {"min", [](double a, double b) { return std::min(a, b); }},
+    {"max", [](double a, double b) { return std::max(a, b); }},
+    {"pow", [](double a, double b) { return std::pow(a, b); }},
+};
+
+// Compiles a formula into postfix operations, in the order the grammar below reads it.
 class Parser {
  public:
-  Parser(const std::string& text, const ParameterValues& parameters) : text_(text), parameters_(parameters) {}
+  Parser(const std::string& text, const ParameterValues& parameters, const std::vector<std::string>& variables)
+      : text_(text), parameters_(parameters), variables_(variables) {}
 
-  double parse() {
-    const double value = sum();
+  std::vector<Operation> parse() {
+    sum();
     skip_space();
     if (at_ < text_.size()) fail(fmt::format("unexpected '{}'", text_[at_]));
-    return value;
+    return std::move(program_);
   }
 
  private:
   // sum := product (('+' | '-') product)*
-  double sum() {
-    double value = product();
+  void sum() {
+    product();
     for (;;) {
       if (accept('+'))
-        value += product();
+        operand_then(&Parser::product, Kind::Add);
       else if (accept('-'))
-        value -= product();
+        operand_then(&Parser::product, Kind::Subtract);
       else
-        return value;
+        return;
     }
   }
 
   // product := unary (('*' | '/') unary)*
-  double product() {
-    double value = unary();
+  void product() {
+    unary();
     for (;;) {
       if (accept('*'))
-        value *= unary();
+        operand_then(&Parser::unary, Kind::Multiply);
       else if (accept('/'))
-        value /= unary();
+        operand_then(&Parser::unary, Kind::Divide);
       else
-        return value;
+        return;
     }
+  }
+
+  // The right operand, then the operation.
+  void operand_then(void (Parser::*operand)(), Kind kind) {
+    (this->*operand)();
+    emit({kind});
   }
 
   // unary := ('-' | '+') unary | power; so -2^2 = -4 as in mathematics. Every path by which the grammar
   // recurses passes here (a parenthesis or a call through sum, a sign, a power's exponent), so this is
   // where the nesting is counted.
-  double unary() {
+  void unary() {
     const Nesting level(*this);
-    if (accept('-')) return -unary();
+    if (accept('-')) return operand_then(&Parser::unary, Kind::Negate);
     if (accept('+')) return unary();
-    return power();
+    power();
   }
 
   // power := primary ('^' unary)?
-  double power() {
-    const double base = primary();
-    return accept('^') ? std::pow(base, unary()) : base;
+  void power() {
+    primary();
+    if (accept('^')) operand_then(&Parser::unary, Kind::Power);
   }
 
-  double primary() {
+  void primary() {
     skip_space();
     if (accept('(')) {
-      const double value = sum();
+      sum();
       expect(')');
-      return value;
+      return;
     }
     if (at_ < text_.size() && (std::isdigit(static_cast<unsigned char>(text_[at_])) || text_[at_] == '.'))
       return number();
@@ -95,59 +126,57 @@ class Parser {
     fail(fmt::format("unexpected '{}' where a value is expected", text_[at_]));
   }
 
-  double number() {
+  void number() {
     const char* begin = text_.c_str() + at_;
     char* end = nullptr;
     const double value = std::strtod(begin, &end);
     if (end == begin) fail("malformed number");
     at_ += std::size_t(end - begin);
-    return value;
+    emit({Kind::Constant, value});
   }
 
-  double variable(const std::string& name, std::size_t column) {
-    if (name == "pi") return kPi;
+  void variable(const std::string& name, std::size_t column) {
+    for (std::size_t slot = 0; slot < variables_.size(); ++slot)
+      if (variables_[slot] == name) return emit({Kind::Variable, 0.0, int(slot)});
+    if (name == "pi") return emit({Kind::Constant, kPi});
     const auto found = parameters_.find(name);
-    if (found != parameters_.end()) return found->second;
+    if (found != parameters_.end()) return emit({Kind::Constant, found->second});
     std::string known;
     for (const auto& [parameter, value] : parameters_) known += (known.empty() ? "" : ", ") + parameter;
     at_ = column;
-    fail(fmt::format("unknown name '{}' (parameters: {})", name, known.empty() ? "none declared" : known));
+    fail(fmt::format("unknown name '{}' (parameters: {}{})", name, known.empty() ? "none declared" : known,
+                     variables_.empty() ? "" : fmt::format("; variables: {}", fmt::join(variables_, ", "))));
   }
 
-  double call(const std::string& name, std::size_t column) {
-    std::vector<double> args{sum()};
-    while (accept(',')) args.push_back(sum());
+  void call(const std::string& name, std::size_t column) {
+    std::size_t arguments = 1;
+    sum();
+    while (accept(',')) {
+      sum();
+      ++arguments;
+    }
     expect(')');
     auto arity = [&](std::size_t n) {
-      if (args.size() != n) {
+      if (arguments != n) {
         at_ = column;
-        fail(fmt::format("{}() takes {} argument{}, got {}", name, n, n == 1 ? "" : "s", args.size()));
+        fail(fmt::format("{}() takes {} argument{}, got {}", name, n, n == 1 ? "" : "s", arguments));
       }
     };
-    using Unary = double (*)(double);
-    static const std::pair<const char*, Unary> kUnary[] = {
-        {"sin", [](double a) { return std::sin(a); }},         {"cos", [](double a) { return std::cos(a); }},
-        {"tan", [](double a) { return std::tan(a); }},         {"asin", [](double a) { return std::asin(a); }},
-        {"acos", [](double a) { return std::acos(a); }},       {"atan", [](double a) { return std::atan(a); }},
-        {"sqrt", [](double a) { return std::sqrt(a); }},       {"exp", [](double a) { return std::exp(a); }},
-        {"log", [](double a) { return std::log(a); }},         {"abs", [](double a) { return std::fabs(a); }},
-        {"radians", [](double a) { return a * kPi / 180.0; }}, {"degrees", [](double a) { return a * 180.0 / kPi; }},
-    };
-    for (const auto& [known, function] : kUnary) {
-      if (name != known) continue;
+    for (std::size_t f = 0; f < std::size(kUnary); ++f) {
+      if (name != kUnary[f].first) continue;
       arity(1);
-      return function(args[0]);
+      return emit({Kind::Unary, 0.0, int(f)});
     }
-    if (name == "atan2" || name == "min" || name == "max" || name == "pow") {
+    for (std::size_t f = 0; f < std::size(kBinary); ++f) {
+      if (name != kBinary[f].first) continue;
       arity(2);
-      if (name == "atan2") return std::atan2(args[0], args[1]);
-      if (name == "min") return std::min(args[0], args[1]);
-      if (name == "max") return std::max(args[0], args[1]);
-      return std::pow(args[0], args[1]);
+      return emit({Kind::Binary, 0.0, int(f)});
     }
     at_ = column;
     fail(fmt::format("unknown function '{}'", name));
   }
+
+  void emit(const Operation& operation) { program_.push_back(operation); }
 
   void skip_space() {
     while (at_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[at_]))) ++at_;
@@ -189,14 +218,53 @@ class Parser {
 
   const std::string& text_;
   const ParameterValues& parameters_;
+  const std::vector<std::string>& variables_;
+  std::vector<Operation> program_;
   std::size_t at_ = 0;
   int depth_ = 0;
 };
 
 }  // namespace
 
+Formula::Formula(const std::string& text, const ParameterValues& parameters, const std::vector<std::string>& variables)
+    : program_(Parser(text, parameters, variables).parse()) {
+  for (const Operation& operation : program_) uses_variables_ |= operation.kind == Kind::Variable;
+}
+
+double Formula::operator()(const std::vector<double>& variables) const {
+  // The stack never holds more values than the program has operations; a formula is short.
+  std::vector<double> stack;
+  stack.reserve(program_.size());
+  auto pop = [&stack] {
+    const double value = stack.back();
+    stack.pop_back();
+    return value;
+  };
+  for (const Operation& operation : program_) {
+    switch (operation.kind) {
+      case Kind::Constant: stack.push_back(operation.constant); continue;
+      case Kind::Variable: stack.push_back(variables.at(std::size_t(operation.index))); continue;
+      case Kind::Negate: stack.back() = -stack.back(); continue;
+      case Kind::Unary: stack.back() = kUnary[operation.index].second(stack.back()); continue;
+      default: break;
+    }
+    const double right = pop();
+    double& left = stack.back();
+    switch (operation.kind) {
+      case Kind::Add: left += right; break;
+      case Kind::Subtract: left -= right; break;
+      case Kind::Multiply: left *= right; break;
+      case Kind::Divide: left /= right; break;
+      case Kind::Power: left = std::pow(left, right); break;
+      case Kind::Binary: left = kBinary[operation.index].second(left, right); break;
+      default: break;
+    }
+  }
+  return stack.back();
+}
+
 double evaluate_expression(const std::string& text, const ParameterValues& parameters) {
-  return Parser(text, parameters).parse();
+  return Formula(text, parameters)({});
 }
 
 ParameterValues parse_assignments(const std::vector<std::string>& assignments) {

@@ -2,6 +2,7 @@
 // The parser builds it; scene_setup turns it into particles and a FullOrderConfig.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -66,7 +67,11 @@ struct ObjectSpec {
   std::int32_t material = 0;  // index into Scene::materials
   ShapeSpec shape;
   SamplingSpec sampling;
+  // The initial velocity: velocity + velocity_formulas(x) + angular_velocity × (x − centre of mass); a
+  // component's formula (of the parameters and the particle's position x, y, z at t = 0, m) where it has
+  // one, empty where `velocity` holds it. APIC particles start with C = the gradient of that field.
   Vec3<double> velocity = Vec3<double>::zero();
+  std::array<std::string, 3> velocity_formulas;
   Vec3<double> angular_velocity = Vec3<double>::zero();  // rad/s about the sampled body's centre of mass
   bool domains = false;  // hexahedral particle domains (lattice sampling only): no numerical fracture
 };

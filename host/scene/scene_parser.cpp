@@ -310,7 +310,9 @@ void read_objects(SceneReader& r, TableReader& root) {
     object.material = material_index(r, t);
     object.shape = read_shape(t.table("shape"), {"box", "sphere", "cylinder", "capsule", "mesh"}, r.folder);
     object.sampling = read_sampling(t.optional_table("sampling"));
-    object.velocity = t.vec3("velocity", Vec3<double>::zero());
+    const TableReader::VectorField velocity = t.vec3_field("velocity", {"x", "y", "z"});
+    object.velocity = velocity.constant;
+    object.velocity_formulas = velocity.formulas;
     object.angular_velocity = t.vec3("angular_velocity", Vec3<double>::zero());
     object.domains = t.boolean("domains", false);
     if (object.domains && object.sampling.method != SamplingMethod::Lattice)

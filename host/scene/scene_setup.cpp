@@ -1,8 +1,13 @@
 // Scene → FullOrderConfig and particles.
 #include "host/scene/scene_setup.h"
 
+#include <array>
+#include <cmath>
 #include <optional>
+#include <string>
+#include <utility>
 #include <variant>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -10,6 +15,7 @@
 #include "host/geometry/mesh_io.h"
 #include "host/geometry/sampling.h"
 #include "host/geometry/triangle_mesh.h"
+#include "host/scene/expression.h"
 #include "host/scene/material_library.h"
 #include "host/scene/toml_reader.h"
 
@@ -34,6 +40,58 @@ mpm::Region to_region(const ShapeSpec& shape) {
       shape.type == ShapeType::Sphere ? Vec3<float>::constant(float(shape.radius)) : to_float(shape.size * 0.5);
   return region;
 }
+
+// An object's initial velocity field v(x) = v0 + f(x) + ω × (x − c) (ObjectSpec), and its gradient
+// ∂v_i/∂x_j, the affine velocity C an APIC particle starts with (without it a spinning or shearing body
+// starts with the wrong affine momentum).
+class InitialVelocity {
+ public:
+  InitialVelocity(const ObjectSpec& object, const Scene& scene, const Vec3<double>& center)
+      : object_(object), center_(center), step_(1e-4 * scene.dx) {
+    for (int a = 0; a < 3; ++a)
+      if (!object.velocity_formulas[std::size_t(a)].empty())
+        formulas_[std::size_t(a)].emplace(object.velocity_formulas[std::size_t(a)], scene.parameters,
+                                          std::vector<std::string>{"x", "y", "z"});
+  }
+
+  Vec3<double> at(const Vec3<double>& x) const {
+    return object_.velocity + field(x) + cross(object_.angular_velocity, x - center_);
+  }
+
+  // The rotation's gradient is exact; the formulas' is a central difference (step 1e-4 dx: error
+  // ~1e-8 dx² of the third derivative, far below float's resolution of C).
+  Mat3<double> gradient(const Vec3<double>& x) const {
+    const Vec3<double>& w = object_.angular_velocity;
+    Mat3<double> g = Mat3<double>::zero();
+    g(0, 1) = -w[2], g(0, 2) = w[1], g(1, 0) = w[2], g(1, 2) = -w[0], g(2, 0) = -w[1], g(2, 1) = w[0];
+    if (!varies()) return g;
+    for (int j = 0; j < 3; ++j) {
+      Vec3<double> ahead = x, behind = x;
+      ahead[j] += step_;
+      behind[j] -= step_;
+      const Vec3<double> difference = (field(ahead) - field(behind)) * (0.5 / step_);
+      for (int i = 0; i < 3; ++i) g(i, j) += difference[i];
+    }
+    return g;
+  }
+
+  bool rotates_or_varies() const { return varies() || !(object_.angular_velocity == Vec3<double>::zero()); }
+
+ private:
+  bool varies() const { return formulas_[0] || formulas_[1] || formulas_[2]; }
+  Vec3<double> field(const Vec3<double>& x) const {
+    Vec3<double> f = Vec3<double>::zero();
+    const std::vector<double> position{x[0], x[1], x[2]};
+    for (int a = 0; a < 3; ++a)
+      if (formulas_[std::size_t(a)]) f[a] = (*formulas_[std::size_t(a)])(position);
+    return f;
+  }
+
+  const ObjectSpec& object_;
+  Vec3<double> center_;
+  double step_;
+  std::array<std::optional<Formula>, 3> formulas_;
+};
 
 engine::FullOrderConfig engine_config(const Scene& scene) {
   engine::FullOrderConfig c;
@@ -120,6 +178,8 @@ SceneSetup sample_scene(const Scene& scene) {
   std::vector<geometry::Shape> regions;
   for (const DirichletGroupSpec& group : scene.dirichlet) regions.push_back(make_shape(group.region));
 
+  // Each particle's initial C (its velocity field's gradient), kept as planes only when one is not 0.
+  std::vector<std::pair<Index, Mat3<float>>> affine;
   for (const ObjectSpec& object : scene.objects) {
     std::optional<geometry::Shape> shape;
     geometry::SampledBody body;
@@ -145,22 +205,37 @@ SceneSetup sample_scene(const Scene& scene) {
     }
     setup.particles_per_object.push_back(setup.particles.count() - first);
 
-    // Rigid initial velocity about the body's centre of mass (all its particles have one mass).
+    // The initial velocity about the body's centre of mass (all its particles have one mass).
     Vec3<double> center = Vec3<double>::zero();
     for (const Vec3<double>& p : body.points) center += p;
     center *= 1.0 / double(body.points.size());
+    const InitialVelocity velocity(object, scene, center);
     mpm::ParticleInit& init = setup.particles;
     const Index n = init.count();
     for (std::size_t i = 0; i < body.points.size(); ++i) {
       const Index p = first + Index(i);
-      const Vec3<double> v = object.velocity + cross(object.angular_velocity, body.points[i] - center);
-      for (int a = 0; a < 3; ++a) init.v[std::size_t(a * n + p)] = float(v[a]);
+      const Vec3<double> v = velocity.at(body.points[i]);
+      for (int a = 0; a < 3; ++a) {
+        if (!std::isfinite(v[a]))
+          throw SceneError(fmt::format("{}: objects '{}': velocity[{}] is {} at x = ({:.6g}, {:.6g}, {:.6g}) m",
+                                       scene.source_file, object.name, a, v[a], body.points[i][0], body.points[i][1],
+                                       body.points[i][2]));
+        init.v[std::size_t(a * n + p)] = float(v[a]);
+      }
+      if (velocity.rotates_or_varies()) affine.emplace_back(p, to_float(velocity.gradient(body.points[i])));
       for (std::size_t g = 0; g < regions.size(); ++g)
         if (regions[g].contains(body.points[i])) {
           init.dirichlet_group[std::size_t(p)] = std::int32_t(g);
           break;
         }
     }
+  }
+  if (!affine.empty()) {
+    mpm::ParticleInit& init = setup.particles;
+    const std::size_t n = std::size_t(init.count());
+    init.C.assign(9 * n, 0.0f);
+    for (const auto& [p, gradient] : affine)
+      for (int k = 0; k < 9; ++k) init.C[std::size_t(k) * n + std::size_t(p)] = gradient(k / 3, k % 3);
   }
   if (!setup.particles.domains.empty()) geometry::assign_corner_dirichlet_groups(setup.particles);
   return setup;

@@ -23,10 +23,10 @@ struct SceneSetup {
 // The solid a ShapeSpec describes (meshes are loaded and placed here).
 geometry::Shape make_shape(const ShapeSpec& shape);
 
-// Samples every object, sets initial velocities (v + ω × (x − centre of mass) per object), assigns
-// Dirichlet groups (the first region that holds a particle at t = 0) and converts materials,
-// colliders and loads. A body that reaches into the boundary margin or out of the domain is a
-// SceneError naming the object.
+// Samples every object, sets initial velocities (ObjectSpec: v + f(x) + ω × (x − centre of mass)) and
+// APIC's C (their gradient, where not 0), assigns Dirichlet groups (the first region that holds a
+// particle at t = 0) and converts materials, colliders and loads. A body that reaches into the boundary margin or out
+// of the domain is a SceneError naming the object.
 SceneSetup build_scene(const Scene& scene);
 
 // build_scene without the engine configuration (`config` left at its defaults): the particles alone,

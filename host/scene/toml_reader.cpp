@@ -152,6 +152,44 @@ Vec3<double> TableReader::vec3(const std::string& key, const Vec3<double>& fallb
   return Vec3<double>(v[0], v[1], v[2]);
 }
 
+TableReader::VectorField TableReader::vec3_field(const std::string& key, const std::vector<std::string>& variables) {
+  VectorField field;
+  const toml::node* node = find(key);
+  toml::array resolved;
+  if (!node) {
+    for (int a = 0; a < 3; ++a) resolved.push_back(0.0);
+    out_->insert_or_assign(key, std::move(resolved));
+    return field;
+  }
+  const toml::array* array = node->as_array();
+  if (!array || array->size() != 3) fail(key, "expected an array of 3 numbers or formulas");
+  for (int a = 0; a < 3; ++a) {
+    const toml::node& element = *array->get(std::size_t(a));
+    const auto* text = element.as_string();
+    if (!text) {
+      field.constant[a] = to_number(key, element);
+      resolved.push_back(field.constant[a]);
+      continue;
+    }
+    std::optional<Formula> formula;
+    try {
+      formula.emplace(text->get(), context_->parameters, variables);
+    } catch (const Error& error) {
+      fail(key, error.what());
+    }
+    if (formula->uses_variables()) {
+      field.formulas[std::size_t(a)] = text->get();
+      resolved.push_back(text->get());
+      continue;
+    }
+    field.constant[a] = (*formula)({});
+    if (!std::isfinite(field.constant[a])) fail(key, fmt::format("must be finite, got {}", field.constant[a]));
+    resolved.push_back(field.constant[a]);
+  }
+  out_->insert_or_assign(key, std::move(resolved));
+  return field;
+}
+
 Vec3<double> TableReader::required_vec3(const std::string& key) {
   if (!has(key)) fail("", fmt::format("missing required key '{}' (an array of 3 numbers)", key));
   return vec3(key, Vec3<double>::zero());

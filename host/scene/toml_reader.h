@@ -3,6 +3,7 @@
 // every formula evaluated) is recorded as it is read.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <set>
@@ -63,6 +64,16 @@ class TableReader {
   std::vector<double> required_numbers(const std::string& key, const Range& range, std::size_t min_count,
                                        std::size_t max_count);
   Vec3<double> vec3(const std::string& key, const Vec3<double>& fallback);
+  // A vector field: 3 entries, each a number, a formula of the parameters, or a formula that also uses
+  // `variables` (e.g. x, y, z). Entries that use no variable are evaluated into `constant` (0 where a
+  // formula is kept); those that do are compiled here (so that their errors name the key) and returned
+  // as text in `formulas` (empty for a constant entry), to be evaluated by the caller. Absent: zero.
+  struct VectorField {
+    Vec3<double> constant = Vec3<double>::zero();
+    std::array<std::string, 3> formulas;
+    bool varies() const { return !formulas[0].empty() || !formulas[1].empty() || !formulas[2].empty(); }
+  };
+  VectorField vec3_field(const std::string& key, const std::vector<std::string>& variables);
   Vec3<double> required_vec3(const std::string& key);
   bool boolean(const std::string& key, bool fallback);
   std::string string(const std::string& key, const std::string& fallback);
