@@ -17,6 +17,7 @@
 #include "host/cli/learn_law_command.h"
 #include "host/cli/run_command.h"
 #include "host/cli/sweep_command.h"
+#include "host/cli/totals_command.h"
 #include "host/cli/train_rom_command.h"
 #include "host/scene/toml_reader.h"
 #include "kernels/core/error.h"
@@ -41,6 +42,8 @@ int main(int argc, char** argv) {
   const CLI::App* sweep = add_sweep_command(app, sweep_options);
   CompareOptions compare_options;
   const CLI::App* compare = add_compare_command(app, compare_options);
+  TotalsOptions totals_options;
+  const CLI::App* totals = add_totals_command(app, totals_options);
   LearnLawOptions learn_law_options;
   const CLI::App* learn_law = add_learn_law_command(app, learn_law_options);
   TrainRomOptions train_rom_options;
@@ -60,6 +63,7 @@ int main(int argc, char** argv) {
     if (run->parsed()) return run_command(choice, global.threads, run_options);
     if (sweep->parsed()) return sweep_command(global, sweep_options);
     if (compare->parsed()) return compare_command(compare_options);
+    if (totals->parsed()) return totals_command(totals_options);
     if (learn_law->parsed()) return learn_law_command(choice, global.threads, learn_law_options);
     if (train_rom->parsed()) return train_rom_command(choice, global.threads, train_rom_options);
     throw romp::Error("no command was run");  // require_subcommand(1) makes this unreachable

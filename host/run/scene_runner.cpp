@@ -3,14 +3,17 @@
 #include "host/run/scene_runner.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "host/build_info.h"
 #include "host/engine/full_order_sim.h"
+#include "host/run/frame_outputs.h"
 #include "host/run/interrupt.h"
 #include "host/run/progress.h"
 #include "host/run/simulation.h"
@@ -44,6 +47,7 @@ io::SnapshotHeader snapshot_header(const scene::Scene& scene, const mpm::Particl
     header.mass = particles.mass;
     header.volume0 = particles.volume0;
     header.material = particles.material;
+    header.group = particles.dirichlet_group;
   } else {
     io::SnapshotHeader points;
     try {
@@ -158,6 +162,21 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
     fields = io::kFieldX | (fields & sim.point_fields());
   }
   const bool checkpoints = sim.resumable() && !at_points;
+  // Frames of the material points carry their totals and the derived fields the scene asks for; frames
+  // at other points have no mass or material to take them from.
+  std::optional<FrameOutputs> frame_outputs;
+  if (at_points) {
+    if (fields & io::kDerivedFields)
+      spdlog::warn("output.fields {} are not written at --output-points (points without mass or material)",
+                   fmt::join(io::field_names(fields & io::kDerivedFields), ", "));
+    fields &= ~io::kDerivedFields;
+  } else {
+    try {
+      frame_outputs.emplace(fields, setup.config, setup.particles);
+    } catch (const Error& error) {
+      throw scene::SceneError(fmt::format("{}: {}", scene.source_file, error.what()));
+    }
+  }
   if (!writer) writer = std::make_unique<io::SnapshotWriter>(output, header, fields, ply);
   result.first_frame = first_frame;
 
@@ -181,8 +200,9 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
         });
       }
     }
-    auto state = std::make_shared<const io::FrameData>(at_points ? sim.capture_points() : sim.capture());
-    worker.submit([&writer, state, frame, &checkpoint_file, &scene, checkpoints, domain_state] {
+    auto state = std::make_shared<io::FrameData>(at_points ? sim.capture_points() : sim.capture());
+    worker.submit([&writer, state, frame, &checkpoint_file, &scene, checkpoints, domain_state, &frame_outputs] {
+      if (frame_outputs) frame_outputs->add_to(*state);
       writer->append_frame(*state);
       if (checkpoints)
         io::write_checkpoint(checkpoint_file, io::Checkpoint{*state, frame, scene.resolved_text, domain_state->corner_x,

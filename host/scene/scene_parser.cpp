@@ -17,6 +17,7 @@
 #include "host/scene/toml_writer.h"
 #include "kernels/core/error.h"
 #include "kernels/math/rotation.h"
+#include "nn/io/snapshot_layout.h"
 #include "nn/nclaw/law_file_format.h"
 
 namespace romp::scene {
@@ -415,7 +416,7 @@ void read_output(SceneReader& r, TableReader t) {
   OutputSpec& o = r.scene.output;
   o.file = t.string("file", "runs/" + r.scene.name + ".h5");
   if (fs::path(o.file).extension() != ".h5") t.fail("file", "the snapshot file name must end in .h5");
-  o.fields = t.choices("fields", {"x", "v", "F", "C"}, {"x", "v", "F", "C"});
+  o.fields = t.choices("fields", {"x", "v", "F", "C"}, io::field_names(io::kAllFields));
   if (std::find(o.fields.begin(), o.fields.end(), "x") == o.fields.end())
     t.fail("fields", "must include \"x\" (positions place every other field)");
   o.ply = t.boolean("ply", false);

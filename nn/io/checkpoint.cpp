@@ -29,6 +29,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
   const FrameData& state = checkpoint.state;
   const std::uint64_t n = std::uint64_t(state.x.size() / 3);
   for (const FieldInfo& info : kFieldInfos) {
+    if (!(info.bit & kStateFields)) continue;
     if (state.field(info.bit).size() != info.components * n) {
       throw Error(fmt::format("checkpoint {}: field {} has {} values, expected {} ({} planes of {} particles)", path,
                               info.name, state.field(info.bit).size(), info.components * n, info.components, n));
@@ -41,6 +42,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
     file.write_attribute("step", state.step);
     file.write_attribute("tag", checkpoint.tag);
     for (const FieldInfo& info : kFieldInfos) {
+      if (!(info.bit & kStateFields)) continue;
       file.write_dataset(info.name, {std::uint64_t(info.components), n}, state.field(info.bit));
     }
     if (!checkpoint.corner_x.empty()) {
@@ -67,6 +69,7 @@ Checkpoint read_checkpoint(const std::string& path) {
   checkpoint.state.step = file.read_int64_attribute("step");
   checkpoint.tag = file.read_string_attribute("tag");
   for (const FieldInfo& info : kFieldInfos) {
+    if (!(info.bit & kStateFields)) continue;
     checkpoint.state.field(info.bit) =
         file.read_dataset<float>(info.name, {std::uint64_t(info.components), std::uint64_t(n)});
     require_finite(file, info.name, checkpoint.state.field(info.bit));

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "kernels/core/error.h"
 
@@ -19,9 +20,17 @@ FieldMask parse_fields(const std::vector<std::string>& names) {
         known = true;
       }
     }
-    if (!known) throw Error(fmt::format("unknown snapshot field \"{}\" (allowed: x, v, F, C)", name));
+    if (!known)
+      throw Error(
+          fmt::format("unknown snapshot field \"{}\" (allowed: {})", name, fmt::join(field_names(kAllFields), ", ")));
   }
   return fields;
+}
+
+std::vector<std::uint64_t> field_shape(const FieldInfo& info, std::uint64_t n) {
+  if (info.components == 1) return {n};
+  if (info.components == 3) return {n, 3};
+  return {n, 3, 3};
 }
 
 std::vector<std::string> field_names(FieldMask fields) {
@@ -42,17 +51,21 @@ const std::vector<float>& FrameData::field(FieldMask bit) const {
     case kFieldV: return v;
     case kFieldF: return F;
     case kFieldC: return C;
+    case kFieldStress: return stress;
+    case kFieldJ: return J;
+    case kFieldVonMises: return von_mises;
+    case kFieldEnergyDensity: return energy_density;
     default: throw Error(fmt::format("FrameData::field: {} is not a single field bit", bit));
   }
 }
 
 void SnapshotHeader::validate() const {
   const std::size_t n = mass.size();
-  if (X.size() != 3 * n || volume0.size() != n || material.size() != n) {
+  if (X.size() != 3 * n || volume0.size() != n || material.size() != n || (!group.empty() && group.size() != n)) {
     throw Error(
         fmt::format("snapshot header: {} masses but {} reference-position values (3 planes), {} volumes and "
-                    "{} material ids",
-                    n, X.size(), volume0.size(), material.size()));
+                    "{} material ids ({} group ids)",
+                    n, X.size(), volume0.size(), material.size(), group.size()));
   }
   if (parameter_names.size() != parameter_values.size()) {
     throw Error(fmt::format("snapshot header: {} parameter names but {} values", parameter_names.size(),

@@ -34,6 +34,7 @@ SnapshotReader::SnapshotReader(const std::string& path) : file_(open_versioned_f
   header_.mass = file_.read_dataset<float>("/particles/mass", {count});
   header_.volume0 = file_.read_dataset<float>("/particles/volume0", {count});
   header_.material = file_.read_dataset<std::int32_t>("/particles/material", {count});
+  if (file_.exists("/particles/group")) header_.group = file_.read_dataset<std::int32_t>("/particles/group", {count});
 
   const std::int64_t frames = file_.read_int64_attribute("frame_count");
   if (frames < 0 || frames > kMaxFrames) {
@@ -73,8 +74,24 @@ FrameData SnapshotReader::read_frame(std::int64_t frame) const {
   data.step = steps_[std::size_t(frame)];
   for (const FieldInfo& info : kFieldInfos) {
     if (!(fields_ & info.bit)) continue;
-    const hdf5::Shape shape = info.components == 3 ? hdf5::Shape{n, 3} : hdf5::Shape{n, 3, 3};
-    data.field(info.bit) = rows_to_planes(file_.read_dataset<float>(group + "/" + info.name, shape), info.components);
+    data.field(info.bit) =
+        rows_to_planes(file_.read_dataset<float>(group + "/" + info.name, field_shape(info, n)), info.components);
+  }
+  const hdf5::Group frame_group = file_.open_group(group);
+  if (frame_group.has_attribute("kinetic_energy")) {
+    FrameTotals totals;
+    totals.kinetic_energy = frame_group.read_double_attribute("kinetic_energy");
+    totals.elastic_energy = frame_group.read_double_attribute("elastic_energy");
+    totals.gravitational_energy = frame_group.read_double_attribute("gravitational_energy");
+    for (const auto& [name, vector] : {std::pair{"linear_momentum", &totals.linear_momentum},
+                                       std::pair{"angular_momentum", &totals.angular_momentum}}) {
+      const std::vector<double> values = frame_group.read_doubles_attribute(name);
+      if (values.size() != 3)
+        throw UnusableFileError(
+            fmt::format("{}: {}/{} holds {} values, not 3", file_.label(), group, name, values.size()));
+      std::copy(values.begin(), values.end(), vector->begin());
+    }
+    data.totals = totals;
   }
   return data;
 }

@@ -55,7 +55,8 @@ void remove_ply_frames_from(const std::string& snapshot_path, std::int64_t first
 
 FieldMask selected_fields(FieldMask fields) {
   if (fields & ~kAllFields) {
-    throw Error(fmt::format("snapshot: field mask {:#x} has bits beyond x, v, F and C", fields));
+    throw Error(
+        fmt::format("snapshot: field mask {:#x} has bits beyond {}", fields, fmt::join(field_names(kAllFields), ", ")));
   }
   return fields | kFieldX;
 }
@@ -88,6 +89,7 @@ hdf5::File create_snapshot(const std::string& path, const SnapshotHeader& header
   file.write_dataset("/particles/mass", {n}, header.mass);
   file.write_dataset("/particles/volume0", {n}, header.volume0);
   file.write_dataset("/particles/material", {n}, header.material);
+  if (!header.group.empty()) file.write_dataset("/particles/group", {n}, header.group);
   std::vector<std::int32_t> id(n);
   for (std::uint64_t p = 0; p < n; ++p) id[p] = std::int32_t(p);
   file.write_dataset("/particles/id", {n}, id);
@@ -114,6 +116,7 @@ SnapshotWriter::SnapshotWriter(std::string path, hdf5::File file, const Snapshot
       ply_(ply),
       particle_count_(header.particle_count()),
       material_(header.material),
+      has_group_(!header.group.empty()),
       times_(std::move(times)) {
   if (ply_) remove_ply_frames_from(path_, frame_count());
   write_sidecar(partial_path(path_));
@@ -182,8 +185,17 @@ void SnapshotWriter::append_frame(const FrameData& frame) {
   group.write_attribute("step", frame.step);
   for (const FieldInfo& info : kFieldInfos) {
     if (!(fields_ & info.bit)) continue;
-    const hdf5::Shape shape = info.components == 3 ? hdf5::Shape{n, 3} : hdf5::Shape{n, 3, 3};
-    group.write_dataset(info.name, shape, planes_to_rows(frame.field(info.bit), info.components));
+    group.write_dataset(info.name, field_shape(info, n), planes_to_rows(frame.field(info.bit), info.components));
+  }
+  if (frame.totals) {
+    const FrameTotals& totals = *frame.totals;
+    group.write_attribute("kinetic_energy", totals.kinetic_energy);
+    group.write_attribute("elastic_energy", totals.elastic_energy);
+    group.write_attribute("gravitational_energy", totals.gravitational_energy);
+    group.write_attribute("linear_momentum",
+                          std::vector<double>(totals.linear_momentum.begin(), totals.linear_momentum.end()));
+    group.write_attribute("angular_momentum",
+                          std::vector<double>(totals.angular_momentum.begin(), totals.angular_momentum.end()));
   }
   // Raised last: readers trust frames below frame_count only.
   file_->write_attribute("frame_count", k + 1);
@@ -216,6 +228,7 @@ void SnapshotWriter::write_sidecar(const std::string& hdf5_path) const {
   sidecar.hdf5_file = std::filesystem::path(hdf5_path).filename().string();
   sidecar.particle_count = particle_count_;
   sidecar.fields = fields_;
+  sidecar.has_group = has_group_;
   sidecar.frame_times = times_;
   write_xdmf(xdmf_path(path_), sidecar);
 }

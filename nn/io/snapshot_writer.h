@@ -61,6 +61,7 @@ class SnapshotWriter {
   bool ply_;
   std::int64_t particle_count_;
   std::vector<std::int32_t> material_;  // for the PLY files
+  bool has_group_;                      // /particles/group is written (the sidecar shows it)
   std::vector<double> times_;           // of the frames written, for the sidecar
 };
 

@@ -53,6 +53,7 @@ std::string xdmf_document(const XdmfSnapshot& snapshot) {
   constants += attribute("mass", "Scalar", file, "/particles/mass", scalar_dims, "Float");
   constants += attribute("volume0", "Scalar", file, "/particles/volume0", scalar_dims, "Float");
   constants += attribute("material", "Scalar", file, "/particles/material", scalar_dims, "Int");
+  if (snapshot.has_group) constants += attribute("group", "Scalar", file, "/particles/group", scalar_dims, "Int");
   constants += attribute("id", "Scalar", file, "/particles/id", scalar_dims, "Int");
 
   std::string text = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n";
@@ -70,9 +71,19 @@ std::string xdmf_document(const XdmfSnapshot& snapshot) {
     text += "        <Geometry GeometryType=\"XYZ\">\n";
     text += data_item(file, group + "/x", vector_dims, "Float", "          ");
     text += "        </Geometry>\n";
-    if (snapshot.fields & kFieldV) text += attribute("v", "Vector", file, group + "/v", vector_dims, "Float");
-    if (snapshot.fields & kFieldF) text += attribute("F", "Tensor", file, group + "/F", tensor_dims, "Float");
-    if (snapshot.fields & kFieldC) text += attribute("C", "Tensor", file, group + "/C", tensor_dims, "Float");
+    for (const FieldInfo& info : kFieldInfos) {
+      if (info.bit == kFieldX || !(snapshot.fields & info.bit)) continue;
+      const bool scalar = info.components == 1, vector = info.components == 3;
+      text += attribute(info.name,
+                        scalar   ? "Scalar"
+                        : vector ? "Vector"
+                                 : "Tensor",
+                        file, group + "/" + info.name,
+                        scalar   ? scalar_dims
+                        : vector ? vector_dims
+                                 : tensor_dims,
+                        "Float");
+    }
     text += constants;
     text += "      </Grid>\n";
   }

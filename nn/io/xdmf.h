@@ -16,12 +16,13 @@ struct XdmfSnapshot {
   std::string hdf5_file;
   std::int64_t particle_count = 0;
   FieldMask fields = kFieldX;
+  bool has_group = false;           // /particles/group exists
   std::vector<double> frame_times;  // frame k at frame_times[k] (s)
 };
 
 // The XDMF 3 document: a temporal collection with one Polyvertex grid per frame. Each grid's geometry
-// is /frames/NNNNNN/x; v is a Vector, F and C are Tensors ([n,3,3] read as 9 components); X, mass,
-// volume0, material and id come from /particles.
+// is /frames/NNNNNN/x; the other fields are Scalars, Vectors or Tensors ([n,3,3] read as 9
+// components) by their shape; X, mass, volume0, material, group (when written) and id come from /particles.
 std::string xdmf_document(const XdmfSnapshot& snapshot);
 
 // Writes xdmf_document(snapshot) to `path` atomically.

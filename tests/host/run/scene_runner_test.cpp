@@ -164,7 +164,7 @@ TEST_F(SceneRunner, OutputPointsOfAReducedRunAreDecodedThere) {
   run_scene(Exec::cpu(), scene, o);
   const io::SnapshotReader reader(o.output);
   EXPECT_EQ(reader.header().X, points.X);
-  EXPECT_EQ(reader.fields(), io::kAllFields);
+  EXPECT_EQ(reader.fields(), io::kStateFields);
   const io::FrameData last = reader.read_frame(8);
   ASSERT_EQ(last.x.size(), 9u);
   // g(X; x̂) = X + x̂: the three points moved by the same x̂, which moved at about 1 m/s for 0.04 s.
