@@ -1,7 +1,8 @@
-// Reading triangle meshes from Wavefront OBJ and PLY files.
+// Reading triangle meshes from Wavefront OBJ and PLY files, and point clouds from PLY files.
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "host/geometry/triangle_mesh.h"
 
@@ -21,5 +22,16 @@ TriangleMesh parse_obj(const std::string& text, const std::string& name);
 // other properties skipped) and the `vertex_indices` (or `vertex_index`) list of `face` (any integer
 // types); other elements are skipped.
 TriangleMesh parse_ply(const std::string& bytes, const std::string& name);
+
+// Points with, where the file has them, a velocity and a volume each.
+struct PointCloud {
+  std::vector<Vec3<double>> x;
+  std::vector<Vec3<double>> v;  // empty, or one per point
+  std::vector<double> volume;   // empty, or one per point
+};
+
+// PLY contents as points: the vertex element's x, y, z and, when present, vx, vy, vz and volume (any
+// numeric types; other properties and elements are skipped). Errors as parse_ply's.
+PointCloud parse_ply_points(const std::string& bytes, const std::string& name);
 
 }  // namespace romp::geometry

@@ -1,5 +1,6 @@
-// PLY reader (ascii and binary_little_endian): vertex positions and face index lists.
+// PLY reader (ascii and binary_little_endian): vertex properties and face index lists.
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <string_view>
@@ -147,9 +148,17 @@ class BodyCursor {
   std::int64_t item_ = 0;
 };
 
-}  // namespace
+// What romp reads of a PLY file: columns of the vertex element's scalar properties by name (empty
+// where the file has no such property; x, y and z are required) and, when asked for, the faces as
+// triangles (fan-triangulated).
+struct PlyContent {
+  std::int64_t vertex_count = 0;
+  std::vector<std::vector<double>> columns;
+  std::vector<std::array<std::int32_t, 3>> triangles;
+};
 
-TriangleMesh parse_ply(const std::string& bytes, const std::string& name) {
+PlyContent read_ply(const std::string& bytes, const std::string& name, const std::vector<std::string>& column_names,
+                    bool with_faces) {
   // Header: text lines up to end_header.
   std::vector<PlyElement> elements;
   bool binary = false, ended = false;
@@ -207,45 +216,51 @@ TriangleMesh parse_ply(const std::string& bytes, const std::string& name) {
   const auto face_element = find("face");
   if (vertex_element == elements.end())
     throw Error(fmt::format("{}: the PLY header declares no 'vertex' element", name));
-  if (face_element == elements.end() || face_element->count == 0) throw Error(fmt::format("{}: no faces", name));
-  int coordinate_of[3] = {-1, -1, -1};  // property index of x, y, z
+  if (with_faces && (face_element == elements.end() || face_element->count == 0))
+    throw Error(fmt::format("{}: no faces", name));
+  // column_of[k]: the column vertex property k fills, or -1.
+  std::vector<int> column_of(vertex_element->properties.size(), -1);
+  std::vector<bool> found(column_names.size(), false);
   for (std::size_t k = 0; k < vertex_element->properties.size(); ++k)
-    for (int a = 0; a < 3; ++a)
-      if (vertex_element->properties[k].name == std::string(1, char('x' + a)) && !vertex_element->properties[k].is_list)
-        coordinate_of[a] = int(k);
+    for (std::size_t c = 0; c < column_names.size(); ++c)
+      if (vertex_element->properties[k].name == column_names[c] && !vertex_element->properties[k].is_list) {
+        column_of[k] = int(c);
+        found[c] = true;
+      }
   for (int a = 0; a < 3; ++a)
-    if (coordinate_of[a] < 0)
-      throw Error(fmt::format("{}: the vertex element has no property '{}'", name, char('x' + a)));
+    if (!found[std::size_t(a)])
+      throw Error(fmt::format("{}: the vertex element has no property '{}'", name, column_names[std::size_t(a)]));
   int indices_property = -1;
-  for (std::size_t k = 0; k < face_element->properties.size(); ++k) {
+  for (std::size_t k = 0; with_faces && k < face_element->properties.size(); ++k) {
     const PlyProperty& p = face_element->properties[k];
     if (p.is_list && is_integer(p.type) && (p.name == "vertex_indices" || p.name == "vertex_index"))
       indices_property = int(k);
   }
-  if (indices_property < 0)
+  if (with_faces && indices_property < 0)
     throw Error(fmt::format("{}: the face element has no integer list 'vertex_indices' (or 'vertex_index')", name));
 
-  // Body: every element in order, keeping vertex positions and face indices.
-  TriangleMesh mesh;
-  mesh.name = name;
+  // Body: every element in order, keeping the vertex columns and face indices.
+  PlyContent content;
   const std::int64_t vertex_count = vertex_element->count;
-  // Every value takes at least one byte, which bounds what a corrupt count can make us reserve.
-  mesh.vertices.reserve(std::size_t(std::min<std::int64_t>(vertex_count, std::int64_t(bytes.size()))));
+  content.vertex_count = vertex_count;
+  content.columns.resize(column_names.size());
+  for (std::size_t c = 0; c < column_names.size(); ++c)
+    if (found[c])
+      // Every value takes at least one byte, which bounds what a corrupt count can make us reserve.
+      content.columns[c].reserve(std::size_t(std::min<std::int64_t>(vertex_count, std::int64_t(bytes.size()))));
   BodyCursor cursor(std::string_view(bytes).substr(std::min(at, bytes.size())), binary, line_number + 1, name);
   std::vector<std::int32_t> polygon;
   for (const PlyElement& element : elements) {
-    const bool is_vertex = &element == &*vertex_element, is_face = &element == &*face_element;
+    const bool is_vertex = &element == &*vertex_element;
+    const bool is_face = with_faces && &element == &*face_element;
     for (std::int64_t item = 0; item < element.count; ++item) {
       cursor.enter(element.name, item);
-      Vec3<double> x = Vec3<double>::zero();
       polygon.clear();
       for (std::size_t k = 0; k < element.properties.size(); ++k) {
         const PlyProperty& property = element.properties[k];
         if (!property.is_list) {
           const double value = cursor.next(property.type);
-          if (is_vertex)
-            for (int a = 0; a < 3; ++a)
-              if (coordinate_of[a] == int(k)) x[a] = value;
+          if (is_vertex && column_of[k] >= 0) content.columns[std::size_t(column_of[k])].push_back(value);
           continue;
         }
         const double count = cursor.next(property.count_type);
@@ -260,12 +275,39 @@ TriangleMesh parse_ply(const std::string& bytes, const std::string& name) {
         }
         if (keep && polygon.size() < 3) cursor.fail(fmt::format("a face with {} vertices", polygon.size()));
       }
-      if (is_vertex) mesh.vertices.push_back(x);
       for (std::size_t k = 1; k + 1 < polygon.size(); ++k)
-        mesh.triangles.push_back({polygon[0], polygon[k], polygon[k + 1]});
+        content.triangles.push_back({polygon[0], polygon[k], polygon[k + 1]});
     }
   }
+  return content;
+}
+
+}  // namespace
+
+TriangleMesh parse_ply(const std::string& bytes, const std::string& name) {
+  const PlyContent content = read_ply(bytes, name, {"x", "y", "z"}, /*with_faces=*/true);
+  TriangleMesh mesh;
+  mesh.name = name;
+  mesh.vertices.reserve(std::size_t(content.vertex_count));
+  for (std::int64_t i = 0; i < content.vertex_count; ++i)
+    mesh.vertices.push_back(Vec3<double>(content.columns[0][std::size_t(i)], content.columns[1][std::size_t(i)],
+                                         content.columns[2][std::size_t(i)]));
+  mesh.triangles = content.triangles;
   return mesh;
+}
+
+PointCloud parse_ply_points(const std::string& bytes, const std::string& name) {
+  const PlyContent content = read_ply(bytes, name, {"x", "y", "z", "vx", "vy", "vz", "volume"}, /*with_faces=*/false);
+  PointCloud cloud;
+  const bool velocity = !content.columns[3].empty() && !content.columns[4].empty() && !content.columns[5].empty();
+  const bool volume = !content.columns[6].empty();
+  for (std::int64_t i = 0; i < content.vertex_count; ++i) {
+    const std::size_t k = std::size_t(i);
+    cloud.x.push_back(Vec3<double>(content.columns[0][k], content.columns[1][k], content.columns[2][k]));
+    if (velocity) cloud.v.push_back(Vec3<double>(content.columns[3][k], content.columns[4][k], content.columns[5][k]));
+    if (volume) cloud.volume.push_back(content.columns[6][k]);
+  }
+  return cloud;
 }
 
 }  // namespace romp::geometry

@@ -65,8 +65,14 @@ struct MaterialSpecification {
 struct ObjectSpec {
   std::string name;
   std::int32_t material = 0;  // index into Scene::materials
-  ShapeSpec shape;
+  ShapeSpec shape;            // unless the particles come from `points_file`
   SamplingSpec sampling;
+  // Particles read from a file instead of sampled from `shape`: a PLY point cloud (x, y, z; optional vx,
+  // vy, vz and volume per point) or a romp snapshot (X, volume0 and frame `points_frame`'s x and v), as
+  // an absolute path. Each point is a particle of volume `particle_volume` (m³) where the file gives none.
+  std::string points_file;
+  std::int64_t points_frame = 0;
+  double particle_volume = 0.0;
   // The initial velocity: velocity + velocity_formulas(x) + angular_velocity × (x − centre of mass); a
   // component's formula (of the parameters and the particle's position x, y, z at t = 0, m) where it has
   // one, empty where `velocity` holds it. APIC particles start with C = the gradient of that field.

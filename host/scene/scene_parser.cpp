@@ -309,8 +309,19 @@ void read_objects(SceneReader& r, TableReader& root) {
     object.name = t.string("name", fmt::format("object{}", i));
     if (has_control_character(object.name)) t.fail("name", "must not hold control characters (it is printed)");
     object.material = material_index(r, t);
-    object.shape = read_shape(t.table("shape"), {"box", "sphere", "cylinder", "capsule", "mesh"}, r.folder);
-    object.sampling = read_sampling(t.optional_table("sampling"));
+    if (t.has("points")) {
+      // A point file replaces the shape and its sampling; its velocities (if any) add to `velocity`.
+      for (const char* key : {"shape", "sampling", "domains"})
+        if (t.has(key)) t.fail(key, "an object read from `points` has no shape, sampling or domains");
+      object.points_file = read_input_file(t, "points", r.folder, "point", {".ply", ".h5"});
+      const bool snapshot = fs::path(object.points_file).extension() == ".h5";
+      object.points_frame = snapshot ? t.integer("points_frame", 0, Range::closed(0, 999999)) : 0;
+      // A PLY file may give each point its volume; a snapshot always does.
+      if (!snapshot) object.particle_volume = t.number("particle_volume", 0.0, Range::non_negative());
+    } else {
+      object.shape = read_shape(t.table("shape"), {"box", "sphere", "cylinder", "capsule", "mesh"}, r.folder);
+      object.sampling = read_sampling(t.optional_table("sampling"));
+    }
     const TableReader::VectorField velocity = t.vec3_field("velocity", {"x", "y", "z"});
     object.velocity = velocity.constant;
     object.velocity_formulas = velocity.formulas;

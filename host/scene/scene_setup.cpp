@@ -17,6 +17,7 @@
 #include "host/geometry/triangle_mesh.h"
 #include "host/scene/expression.h"
 #include "host/scene/material_library.h"
+#include "host/scene/point_file.h"
 #include "host/scene/toml_reader.h"
 
 namespace romp::scene {
@@ -183,18 +184,30 @@ SceneSetup sample_scene(const Scene& scene) {
   for (const ObjectSpec& object : scene.objects) {
     std::optional<geometry::Shape> shape;
     geometry::SampledBody body;
-    try {
-      shape.emplace(make_shape(object.shape));
-      body = geometry::sample(*shape, sampling_for(object.sampling, scene.dx));
-    } catch (const SceneError&) {
-      throw;
-    } catch (const Error& error) {
-      throw SceneError(fmt::format("{}: objects '{}': {}", scene.source_file, object.name, error.what()));
+    geometry::PointCloud cloud;  // an object read from a point file
+    if (!object.points_file.empty()) {
+      cloud = load_points(object, scene.source_file);
+      body.points = cloud.x;
+      body.particle_volume = cloud.volume.front();
+    } else {
+      try {
+        shape.emplace(make_shape(object.shape));
+        body = geometry::sample(*shape, sampling_for(object.sampling, scene.dx));
+      } catch (const SceneError&) {
+        throw;
+      } catch (const Error& error) {
+        throw SceneError(fmt::format("{}: objects '{}': {}", scene.source_file, object.name, error.what()));
+      }
     }
     check_inside_domain(scene, object, body.points);
     const Index first = setup.particles.count();
     const MaterialSpecification& material = scene.materials[std::size_t(object.material)];
     geometry::append_body(setup.particles, body, material.density, object.material);
+    // A point file's own volumes, each point's.
+    for (std::size_t i = 0; i < cloud.volume.size(); ++i) {
+      setup.particles.volume0[std::size_t(first) + i] = float(cloud.volume[i]);
+      setup.particles.mass[std::size_t(first) + i] = float(material.density * cloud.volume[i]);
+    }
     if (object.domains) {
       const double spacing = sampling_for(object.sampling, scene.dx).spacing();
       const Index first_domain = setup.particles.domains.count();
@@ -205,16 +218,21 @@ SceneSetup sample_scene(const Scene& scene) {
     }
     setup.particles_per_object.push_back(setup.particles.count() - first);
 
-    // The initial velocity about the body's centre of mass (all its particles have one mass).
+    // The initial velocity about the body's centre of mass (its particles' masses go as their volumes).
     Vec3<double> center = Vec3<double>::zero();
-    for (const Vec3<double>& p : body.points) center += p;
-    center *= 1.0 / double(body.points.size());
+    double volume = 0.0;
+    for (std::size_t i = 0; i < body.points.size(); ++i) {
+      const double share = cloud.volume.empty() ? 1.0 : cloud.volume[i];
+      center += body.points[i] * share;
+      volume += share;
+    }
+    center *= 1.0 / volume;
     const InitialVelocity velocity(object, scene, center);
     mpm::ParticleInit& init = setup.particles;
     const Index n = init.count();
     for (std::size_t i = 0; i < body.points.size(); ++i) {
       const Index p = first + Index(i);
-      const Vec3<double> v = velocity.at(body.points[i]);
+      const Vec3<double> v = velocity.at(body.points[i]) + (cloud.v.empty() ? Vec3<double>::zero() : cloud.v[i]);
       for (int a = 0; a < 3; ++a) {
         if (!std::isfinite(v[a]))
           throw SceneError(fmt::format("{}: objects '{}': velocity[{}] is {} at x = ({:.6g}, {:.6g}, {:.6g}) m",

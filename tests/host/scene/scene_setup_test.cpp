@@ -5,12 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include "host/engine/full_order_sim.h"
 #include "host/scene/scene_parser.h"
 #include "kernels/core/error.h"
+#include "nn/io/snapshot_writer.h"
 #include "tests/support/scratch_folder.h"
 
 namespace romp::scene {
@@ -146,6 +148,98 @@ TEST(SceneSetup, ASpinningBodyKeepsItsRotationThroughTheFirstSubstep) {
   mpm::ParticleInit without_c = setup.particles;
   without_c.C.clear();
   EXPECT_GT(largest_error_after_a_substep(without_c), 1e-2 * speed);
+}
+
+// An object read from `points` (with `keys` added) in the cube scene, its shape line removed.
+std::string points_scene(const std::string& file, const std::string& keys = "") {
+  std::string text = cube_scene("points = \"" + file + "\"\n" + keys);
+  const std::size_t shape = text.find("shape = {");
+  return text.erase(shape, text.find('\n', shape) - shape);
+}
+
+void write_text(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+TEST(SceneSetup, APlyPointCloudGivesOneParticleAPointWithItsVelocityAndVolume) {
+  test::ScratchFolder folder;
+  const std::string ply = folder.file("cloud.ply");
+  write_text(ply,
+             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+             "property double vx\nproperty double vy\nproperty double vz\nproperty float volume\nend_header\n"
+             "0.4 0.5 0.5 1 0 0 1e-6\n0.5 0.5 0.5 0 2 0 2e-6\n0.6 0.5 0.5 0 0 3 1e-6\n");
+  const SceneSetup setup = sample_scene(parse_scene(points_scene(ply, "velocity = [0, 0, 0.5]"), "cloud.toml"));
+  const mpm::ParticleInit& init = setup.particles;
+  ASSERT_EQ(init.count(), 3);
+  EXPECT_NEAR(at(init.x, 3, 2)[0], 0.6, 1e-7);
+  EXPECT_EQ(at(init.v, 3, 0), Vec3<double>(1.0, 0.0, 0.5));  // the file's plus the object's
+  EXPECT_EQ(at(init.v, 3, 1), Vec3<double>(0.0, 2.0, 0.5));
+  EXPECT_FLOAT_EQ(init.volume0[1], 2e-6f);
+  EXPECT_FLOAT_EQ(init.mass[1], init.mass[0] * 2.0f);
+  EXPECT_TRUE(init.C.empty());
+}
+
+TEST(SceneSetup, APointCloudWithoutVolumesNeedsParticleVolume) {
+  test::ScratchFolder folder;
+  const std::string ply = folder.file("bare.ply");
+  write_text(ply,
+             "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+             "end_header\n0.4 0.5 0.5\n0.5 0.5 0.5\n");
+  const std::string missing = test::error_message([&] { sample_scene(parse_scene(points_scene(ply), "bare.toml")); });
+  EXPECT_NE(missing.find("objects 'object0': points = " + ply + ": the file gives no volume per point"),
+            std::string::npos)
+      << missing;
+  const SceneSetup setup = sample_scene(parse_scene(points_scene(ply, "particle_volume = 1e-6"), "bare.toml"));
+  EXPECT_EQ(setup.particles.volume0, std::vector<float>(2, 1e-6f));
+}
+
+TEST(SceneSetup, BadPointFilesAreRefusedNamingTheObjectAndTheFile) {
+  test::ScratchFolder folder;
+  // An ascii file's reader refuses a "nan" token; a binary file's float is checked after reading.
+  const std::string ply = folder.file("nan.ply");
+  std::string bytes =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nend_header\n";
+  const float values[3] = {std::nanf(""), 0.5f, 0.5f};
+  bytes.append(reinterpret_cast<const char*>(values), sizeof values);
+  write_text(ply, bytes);
+  const std::string nan =
+      test::error_message([&] { sample_scene(parse_scene(points_scene(ply, "particle_volume = 1e-6"), "n.toml")); });
+  EXPECT_NE(nan.find("point 0 has a position or velocity that is not finite"), std::string::npos) << nan;
+  const std::string both = test::error_message([&] {
+    parse_scene(cube_scene("points = \"" + ply + "\""), "both.toml");  // a shape as well
+  });
+  EXPECT_NE(both.find("objects[0].shape: an object read from `points` has no shape"), std::string::npos) << both;
+  const std::string absent =
+      test::error_message([&] { parse_scene(points_scene(folder.file("none.ply")), "absent.toml"); });
+  EXPECT_NE(absent.find("no point file at"), std::string::npos) << absent;
+}
+
+TEST(SceneSetup, ASnapshotFrameGivesTheParticlesPositionsVelocitiesAndVolumes) {
+  test::ScratchFolder folder;
+  io::SnapshotHeader header;
+  header.X = {0.4f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f};
+  header.mass = {1.0f, 1.0f};
+  header.volume0 = {1e-6f, 3e-6f};
+  header.material = {0, 0};
+  const std::string path = folder.file("earlier.h5");
+  io::SnapshotWriter writer(path, header, io::kFieldX | io::kFieldV);
+  io::FrameData frame;
+  frame.x = header.X;
+  frame.v.assign(6, 0.0f);
+  writer.append_frame(frame);
+  frame.x = {0.45f, 0.55f, 0.5f, 0.5f, 0.5f, 0.5f};
+  frame.v = {0.1f, 0.2f, 0.0f, 0.0f, 0.0f, 0.0f};
+  frame.time = 0.1;
+  writer.append_frame(frame);
+  writer.finish();
+  const SceneSetup setup = sample_scene(parse_scene(points_scene(path, "points_frame = 1"), "later.toml"));
+  const mpm::ParticleInit& init = setup.particles;
+  ASSERT_EQ(init.count(), 2);
+  EXPECT_NEAR(at(init.x, 2, 1)[0], 0.55, 1e-7);
+  EXPECT_NEAR(at(init.v, 2, 0)[0], 0.1, 1e-7);
+  EXPECT_EQ(init.volume0, header.volume0);
+  const std::string past =
+      test::error_message([&] { sample_scene(parse_scene(points_scene(path, "points_frame = 2"), "past.toml")); });
+  EXPECT_NE(past.find("points_frame = 2, but the snapshot holds frames 0 .. 1"), std::string::npos) << past;
 }
 
 }  // namespace
