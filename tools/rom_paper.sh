@@ -87,8 +87,8 @@ sweep() {
   mkdir -p "$folder"
   local scene="$folder/$(basename "$2" .toml)_paper.toml"
   [ -f "$scene" ] || sed "$3" "$root/scenes/rom/$2" > "$scene"
+  step 1 "sweep $folder/sweep"
   if ! sweep_complete "$folder/sweep"; then
-    echo "sweep: $folder/sweep" >&2
     "$romp" "${shared_cores[@]}" "${options[@]}" sweep "$scene" -o "$folder/sweep" -j 2 > "$folder/sweep.log" 2>&1
   fi
 }
@@ -97,10 +97,11 @@ sweep() {
 train() {
   local model="$1" sweep_folder="$2"
   shift 2
+  step 2 "training $model"
   [ -f "$model" ] && return 0
   local resume=()
   [ -f "$model.checkpoint" ] && resume=(--resume)
-  echo "training: $model ($epochs epochs)" >&2
+  echo "training: $model ($epochs epochs; its log ${model%.h5}.log says each epoch's ETA)" >&2
   "$romp" "${options[@]}" train-rom "$sweep_folder" -o "$model" --epochs "$epochs" --report-every 20 \
     "${resume[@]}" "$@" > "${model%.h5}.log" 2>&1
 }
@@ -134,6 +135,33 @@ rom_run_path() {
   echo "$(dirname "$1")/runs/$(basename "$1" .h5)-$2-s$3-m$4${rom_cfl:+-cfl$rom_cfl}.h5"
 }
 
+# Overall progress. Each step says "step k/3" (sweep, training, reduced runs) on stderr; the reduced runs
+# of a table are planned first (plan_runs N) and each one ended or skipped appends a line to a ledger
+# and prints "k/N done, ETA". Runs in parallel (--jobs) append whole short lines (O_APPEND), so the
+# counts stay exact.
+ledger="$out/.reduced_runs"
+step() { echo "step $1/3: $2" >&2; }
+plan_runs() {
+  mkdir -p "$out"
+  echo "planned $1 $(date +%s)" > "$ledger"
+  step 3 "reduced runs and comparisons ($1 runs)"
+}
+# ran_run ran|skipped: records one run and prints the progress; the ETA counts the runs made in this
+# call only (a skipped one took no time).
+ran_run() {
+  [ -f "$ledger" ] || return 0
+  echo "$1" >> "$ledger"
+  awk -v now="$(date +%s)" '
+    NR == 1 { planned = $2; start = $3; next }
+    { done++ } $1 == "ran" { ran++ }
+    END {
+      elapsed = now - start
+      line = sprintf("reduced runs: %d/%d done (%d were already there), %d s so far", done, planned, done - ran, elapsed)
+      if (ran > 0 && done < planned) line = line sprintf(", about %d s left", elapsed / ran * (planned - done))
+      print line
+    }' "$ledger" >&2
+}
+
 # rom_run MODEL SCHEME SAMPLES INDEX SCENE: runs the member reduced unless done; a failed run leaves
 # RUN.failed beside its log.
 rom_run() {
@@ -141,13 +169,14 @@ rom_run() {
   local run
   run="$(rom_run_path "$1" "$2" "$3" "$4")"
   mkdir -p "$(dirname "$run")"
-  [ -f "$run" ] && [ ! -f "$run.failed" ] && return 0
+  if [ -f "$run" ] && [ ! -f "$run.failed" ]; then ran_run skipped; return 0; fi
   rm -f "$run.failed"
   local threads=()
   [ "$jobs" -le 1 ] || threads=("${shared_cores[@]}")
   "$romp" "${threads[@]}" "${options[@]}" run --no-progress "$scene" --rom "$model" --quadrature "$quadrature" \
     --projection "$projection" --samples "$samples" ${rom_cfl:+--rom-cfl "$rom_cfl"} -o "$run" \
     > "${run%.h5}.log" 2>&1 < /dev/null || touch "$run.failed"
+  ran_run ran
 }
 
 # summary VALUES...: "mean % (worst %)", or how many runs failed.
@@ -191,6 +220,7 @@ table() {
     IFS=, read -r -a counts <<< "$sample_rows"
     set -- "${counts[@]}"
   fi
+  plan_runs $(($(wc -l < "$members") * ${#scheme_list[@]} * $#))
   local header="| $label | sample points |" rule="|---|---|"
   for scheme in "${scheme_list[@]}"; do header+=" $scheme |"; rule+="---|"; done
   echo "$header"
@@ -213,6 +243,7 @@ superres_table() {
   mkdir -p "$folder"
   local index member_scene snapshot values samples
   declare -A cells
+  plan_runs $(($(test_members "$sweep_folder" | wc -l) * ${#scheme_list[@]} * $#))
   while read -r index member_scene snapshot values; do
     local fine="$folder/fine-m$index.h5" sets=() assignments
     IFS=, read -r -a assignments <<< "$values"
@@ -229,9 +260,14 @@ superres_table() {
     for scheme in "${scheme_list[@]}"; do
       for samples in "$@"; do
         local run="$folder/$(basename "$model" .h5)-$scheme-s$samples-m$index${rom_cfl:+-cfl$rom_cfl}.h5"
-        [ -f "$run" ] || "$romp" "${options[@]}" run --no-progress "$member_scene" --rom "$model" \
-          --quadrature "${scheme%-*}" --projection "${scheme#*-}" --samples "$samples" --output-points "$fine" \
-          ${rom_cfl:+--rom-cfl "$rom_cfl"} -o "$run" > "${run%.h5}.log" 2>&1 || true
+        if [ -f "$run" ]; then
+          ran_run skipped
+        else
+          "$romp" "${options[@]}" run --no-progress "$member_scene" --rom "$model" \
+            --quadrature "${scheme%-*}" --projection "${scheme#*-}" --samples "$samples" --output-points "$fine" \
+            ${rom_cfl:+--rom-cfl "$rom_cfl"} -o "$run" > "${run%.h5}.log" 2>&1 || true
+          ran_run ran
+        fi
         cells[$scheme-$samples]+=" $([ -f "$run" ] && error "$run" "$fine" || echo failed)"
       done
     done
