@@ -151,6 +151,8 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   ROMP_CHECK(n > 0, "a reduced simulation needs at least one material point");
   check_particle_tables(config_, reference.material, reference.dirichlet_group);
   ROMP_CHECK(!inputs_.plastic(), "the reduced-order model covers elastic materials (ROM paper, Sec. 3.2.2)");
+  ROMP_CHECK(config_.tractions.empty(),
+             "loads.tractions act on material points the reduced step does not keep; run the scene full-order");
   for (const MaterialSpec& m : config_.materials)
     ROMP_CHECK(
         m.params.model != material::MaterialModel::Neural,

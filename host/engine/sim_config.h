@@ -48,6 +48,14 @@ struct DomainReleaseSpec {
   double end = std::numeric_limits<double>::infinity();
 };
 
+// A surface traction on the particles a scene assigned to it at t = 0 (ParticleInit::traction), for
+// start <= t < end.
+struct TractionSpec {
+  Vec3<float> traction;  // Pa, force per reference area
+  double start = 0.0;    // s
+  double end = std::numeric_limits<double>::infinity();
+};
+
 struct RegionLoadSpec {
   mpm::RegionLoad load;
   double start = 0.0;  // s; the load acts for start <= t < end
@@ -87,6 +95,7 @@ struct FullOrderConfig : mpm::DomainConfig<float> {
   std::vector<ColliderSpec> colliders;
   std::vector<DirichletSpec> dirichlet;
   std::vector<RegionLoadSpec> loads;
+  std::vector<TractionSpec> tractions;
   std::vector<DomainReleaseSpec> domain_releases;
 };
 

@@ -42,6 +42,7 @@ StepInputs::StepInputs(const Exec& exec, const FullOrderConfig& config) : exec_(
   colliders_ = DeviceBuffer<mpm::ColliderState>(exec.backend, Index(config.colliders.size()));
   dirichlet_ = DeviceBuffer<mpm::RigidMotion>(exec.backend, Index(config.dirichlet.size()));
   loads_ = DeviceBuffer<mpm::RegionLoad>(exec.backend, Index(config.loads.size()));
+  tractions_ = DeviceBuffer<Vec3<float>>(exec.backend, Index(config.tractions.size()));
   first_failure_ = DeviceBuffer<std::int64_t>(exec.backend, mpm::kStageCount);
 }
 
@@ -78,6 +79,10 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   std::vector<mpm::RegionLoad> loads;
   for (const RegionLoadSpec& spec : config.loads)
     if (time >= spec.start && time < spec.end) loads.push_back(spec.load);
+  // Every traction keeps its index (the particles name it): an inactive one is 0.
+  std::vector<Vec3<float>> tractions;
+  for (const TractionSpec& spec : config.tractions)
+    tractions.push_back(time >= spec.start && time < spec.end ? spec.traction : Vec3<float>::zero());
   fill(exec_, first_failure_.span(), mpm::kNoFailure);
 
   mpm::StepParams step;
@@ -92,6 +97,7 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   step.colliders = colliders_.upload_front(exec_.backend, colliders, exec_.stream);
   step.dirichlet = dirichlet_.upload_front(exec_.backend, motions, exec_.stream);
   step.loads = loads_.upload_front(exec_.backend, loads, exec_.stream);
+  step.tractions = tractions_.upload_front(exec_.backend, tractions, exec_.stream);
   step.first_failure = first_failure_.span();
   return step;
 }

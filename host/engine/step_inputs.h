@@ -71,6 +71,7 @@ class StepInputs {
   DeviceBuffer<mpm::ColliderState> colliders_;
   DeviceBuffer<mpm::RigidMotion> dirichlet_;
   DeviceBuffer<mpm::RegionLoad> loads_;
+  DeviceBuffer<Vec3<float>> tractions_;
   DeviceBuffer<std::int64_t> first_failure_;
 };
 

@@ -27,6 +27,7 @@
 #include "nn/io/snapshot_layout.h"
 #include "nn/io/snapshot_reader.h"
 #include "nn/io/snapshot_writer.h"
+#include "nn/io/unusable_file_error.h"
 
 namespace romp::run {
 namespace {
@@ -134,6 +135,14 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
     init.v = checkpoint.state.v;
     init.F = checkpoint.state.F;
     init.C = checkpoint.state.C;
+    if (!init.plastic.empty()) {
+      if (checkpoint.state.Jp.size() != std::size_t(init.count()))
+        throw io::UnusableFileError(
+            fmt::format("{}: holds no plastic state for the scene's {} particles", checkpoint_file, init.count()));
+      init.plastic = checkpoint.state.Jp;
+      init.plastic.insert(init.plastic.end(), checkpoint.state.plastic_strain.begin(),
+                          checkpoint.state.plastic_strain.end());
+    }
     if (!init.domains.empty()) {
       if (checkpoint.corner_x.size() != 3 * std::size_t(init.domains.corner_count()))
         throw Error(fmt::format("{}: holds {} domain corner positions, the scene's domains have {} corners",
@@ -166,11 +175,16 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   // at other points have no mass or material to take them from.
   std::optional<FrameOutputs> frame_outputs;
   if (at_points) {
-    if (fields & io::kDerivedFields)
+    if (fields & (io::kDerivedFields | io::kPlasticFields))
       spdlog::warn("output.fields {} are not written at --output-points (points without mass or material)",
-                   fmt::join(io::field_names(fields & io::kDerivedFields), ", "));
-    fields &= ~io::kDerivedFields;
+                   fmt::join(io::field_names(fields & (io::kDerivedFields | io::kPlasticFields)), ", "));
+    fields &= ~(io::kDerivedFields | io::kPlasticFields);
   } else {
+    if ((fields & io::kPlasticFields) && (setup.particles.plastic.empty() || options.make_reduced))
+      throw scene::SceneError(
+          fmt::format("{}: output.fields {}: no particle of this run keeps a plastic state (a "
+                      "drucker-prager or von-mises material, in a full-order run)",
+                      scene.source_file, fmt::join(io::field_names(fields & io::kPlasticFields), ", ")));
     try {
       frame_outputs.emplace(fields, setup.config, setup.particles);
     } catch (const Error& error) {

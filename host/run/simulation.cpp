@@ -25,6 +25,12 @@ class FullOrderRun final : public Simulation {
     frame.v = sim_.particles().velocities_in_initial_order(sim_.exec());
     frame.F = sim_.particles().deformation_gradients_in_initial_order(sim_.exec());
     frame.C = sim_.particles().affine_velocities_in_initial_order(sim_.exec());
+    const std::vector<float> plastic = sim_.particles().plastic_state_in_initial_order(sim_.exec());
+    if (!plastic.empty()) {
+      const std::size_t n = plastic.size() / 2;
+      frame.Jp.assign(plastic.begin(), plastic.begin() + std::ptrdiff_t(n));
+      frame.plastic_strain.assign(plastic.begin() + std::ptrdiff_t(n), plastic.end());
+    }
     return frame;
   }
   void track_points(const std::vector<float>& X) override { sim_.set_tracers(X); }

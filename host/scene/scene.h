@@ -112,6 +112,17 @@ struct PokeSpec {
   double start = 0.0, end = 0.0;
 };
 
+// A surface traction (force per reference area) on the particles inside `region` at t = 0 (the first
+// traction whose region holds a particle wins), during [start, end): each particle carries the traction
+// times V₀^(2/3), its share of the loaded surface when the region holds one layer of the body's particles.
+struct TractionSpecification {
+  std::string name;
+  ShapeSpec region;                              // box, sphere, cylinder or capsule
+  Vec3<double> traction = Vec3<double>::zero();  // Pa
+  double start = 0.0;
+  double end = std::numeric_limits<double>::infinity();
+};
+
 // Particles inside `region` while start <= t < end lose their domains for good (mpm::release_domains).
 struct DomainReleaseSpecification {
   ShapeSpec region;  // box (axis-aligned) or sphere
@@ -144,6 +155,7 @@ struct Scene : mpm::DomainConfig<double> {
   std::vector<ColliderSpecification> colliders;
   std::vector<DirichletGroupSpec> dirichlet;
   std::vector<PokeSpec> pokes;
+  std::vector<TractionSpecification> tractions;
   std::vector<DomainReleaseSpecification> domain_releases;
   OutputSpec output;
   // The parameters the formulas saw (a sweep member's values), in declaration-independent name order.

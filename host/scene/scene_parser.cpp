@@ -420,6 +420,20 @@ void read_loads(SceneReader& r, TableReader t) {
     p.finish();
     r.scene.pokes.push_back(std::move(poke));
   }
+  const std::vector<TableReader> tractions = t.tables("tractions");
+  for (std::size_t i = 0; i < tractions.size(); ++i) {
+    TableReader p = tractions[i];
+    TractionSpecification traction;
+    traction.name = p.string("name", fmt::format("traction{}", i));
+    if (has_control_character(traction.name)) p.fail("name", "must not hold control characters (it is printed)");
+    traction.region = read_shape(p.table("region"), {"box", "sphere", "cylinder", "capsule"}, r.folder);
+    traction.traction = p.required_vec3("traction");
+    traction.start = p.number("start", 0.0, Range::non_negative());
+    if (p.has("end")) traction.end = p.number("end", 0.0, Range::positive());
+    if (!(traction.end > traction.start)) p.fail("end", fmt::format("must be > start = {}", traction.start));
+    p.finish();
+    r.scene.tractions.push_back(std::move(traction));
+  }
   t.finish();
 }
 

@@ -1,6 +1,7 @@
 // Scene → FullOrderConfig and particles.
 #include "host/scene/scene_setup.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <optional>
@@ -123,6 +124,8 @@ engine::FullOrderConfig engine_config(const Scene& scene) {
     load.acceleration = to_float(p.acceleration);
     c.loads.push_back(engine::RegionLoadSpec{load, p.start, p.end});
   }
+  for (const TractionSpecification& t : scene.tractions)
+    c.tractions.push_back(engine::TractionSpec{to_float(t.traction), t.start, t.end});
   for (const DomainReleaseSpecification& d : scene.domain_releases)
     c.domain_releases.push_back(engine::DomainReleaseSpec{to_region(d.region), d.start, d.end});
   return c;
@@ -176,8 +179,10 @@ SceneSetup build_scene(const Scene& scene) {
 
 SceneSetup sample_scene(const Scene& scene) {
   SceneSetup setup;
-  std::vector<geometry::Shape> regions;
+  std::vector<geometry::Shape> regions, traction_regions;
   for (const DirichletGroupSpec& group : scene.dirichlet) regions.push_back(make_shape(group.region));
+  for (const TractionSpecification& traction : scene.tractions) traction_regions.push_back(make_shape(traction.region));
+  std::vector<std::int32_t> traction_of;  // per particle, as the objects are appended
 
   // Each particle's initial C (its velocity field's gradient), kept as planes only when one is not 0.
   std::vector<std::pair<Index, Mat3<float>>> affine;
@@ -246,6 +251,10 @@ SceneSetup sample_scene(const Scene& scene) {
           init.dirichlet_group[std::size_t(p)] = std::int32_t(g);
           break;
         }
+      std::int32_t traction = mpm::kNoTraction;
+      for (std::size_t t = 0; t < traction_regions.size() && traction == mpm::kNoTraction; ++t)
+        if (traction_regions[t].contains(body.points[i])) traction = std::int32_t(t);
+      traction_of.push_back(traction);
     }
   }
   if (!affine.empty()) {
@@ -255,6 +264,24 @@ SceneSetup sample_scene(const Scene& scene) {
     for (const auto& [p, gradient] : affine)
       for (int k = 0; k < 9; ++k) init.C[std::size_t(k) * n + std::size_t(p)] = gradient(k / 3, k % 3);
   }
+  if (!scene.tractions.empty()) {
+    std::vector<Index> loaded(scene.tractions.size(), 0);
+    for (const std::int32_t t : traction_of)
+      if (t != mpm::kNoTraction) ++loaded[std::size_t(t)];
+    for (std::size_t t = 0; t < loaded.size(); ++t)
+      if (loaded[t] == 0)
+        throw SceneError(fmt::format("{}: loads.tractions '{}': its region holds no particle at t = 0",
+                                     scene.source_file, scene.tractions[t].name));
+    setup.particles.traction = std::move(traction_of);
+  }
+  // The plastic state (J_p = 1, no plastic strain yet) where a material has a return map.
+  for (const MaterialSpecification& m : scene.materials)
+    if (m.model == material::MaterialModel::DruckerPrager || m.model == material::MaterialModel::VonMises) {
+      const std::size_t n = std::size_t(setup.particles.count());
+      setup.particles.plastic.assign(2 * n, 0.0f);
+      std::fill(setup.particles.plastic.begin(), setup.particles.plastic.begin() + std::ptrdiff_t(n), 1.0f);
+      break;
+    }
   if (!setup.particles.domains.empty()) geometry::assign_corner_dirichlet_groups(setup.particles);
   return setup;
 }

@@ -20,6 +20,7 @@
 
 #include "kernels/core/hd.h"
 #include "kernels/material/hencky.h"
+#include "kernels/material/plastic_return.h"
 #include "kernels/math/mat3.h"
 #include "kernels/math/scalar.h"
 #include "kernels/math/vec3.h"
@@ -48,20 +49,24 @@ struct DruckerPrager : HenckyStVK<T> {
   static constexpr bool kPlastic = true;
 
   // The elastic F on or inside the yield cone for a trial F; U and V of the trial are kept.
-  ROMP_HD Mat3<T> project(const Mat3<T>& F_trial) const {
+  ROMP_HD PlasticReturn<T> plastic_return(const Mat3<T>& F_trial) const {
     const Svd3<T> svd = svd3(F_trial);
     const Vec3<T> strain = hencky_strain(svd.sigma);
     const T shifted_trace = trace(strain) - T(3) * cohesion;
-    if (shifted_trace >= T(0)) return from_hencky_strain(svd, Vec3<T>::constant(cohesion));
-
+    if (shifted_trace >= T(0)) {
+      // To the cone's tip: the whole strain but the cohesion's shift is removed.
+      const Vec3<T> tip = Vec3<T>::constant(cohesion);
+      return {from_hencky_strain(svd, tip), norm(strain - tip)};
+    }
     const Vec3<T> deviator = deviatoric(strain);
     const T deviator_norm = norm(deviator);
     const T volumetric_stiffness = (T(3) * this->lambda + T(2) * this->mu) / (T(2) * this->mu);
     const T delta_gamma = deviator_norm + alpha * volumetric_stiffness * shifted_trace;
-    if (delta_gamma <= T(0)) return F_trial;
-    // δγ > 0 and shifted_trace < 0 imply ‖ε̂‖ > 0: the division is safe.
-    return from_hencky_strain(svd, strain - (delta_gamma / deviator_norm) * deviator);
+    if (delta_gamma <= T(0)) return {F_trial, T(0)};
+    // δγ > 0 and shifted_trace < 0 imply ‖ε̂‖ > 0: the division is safe. ‖Δε‖ = δγ along the deviator.
+    return {from_hencky_strain(svd, strain - (delta_gamma / deviator_norm) * deviator), delta_gamma};
   }
+  ROMP_HD Mat3<T> project(const Mat3<T>& F_trial) const { return plastic_return(F_trial).F; }
 };
 
 }  // namespace romp::material

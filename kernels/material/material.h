@@ -18,6 +18,7 @@
 #include "kernels/material/isotropic.h"
 #include "kernels/material/lame.h"
 #include "kernels/material/neo_hookean.h"
+#include "kernels/material/plastic_return.h"
 #include "kernels/material/stretch_clamp.h"
 #include "kernels/material/von_mises.h"
 #include "kernels/material/weakly_compressible_fluid.h"
@@ -157,6 +158,18 @@ struct ProjectPlastic {
   }
 };
 
+template <class T>
+struct PlasticReturnOf {
+  const Mat3<T>& F_trial;
+  template <class Model>
+  ROMP_HD PlasticReturn<T> operator()(const Model& model) const {
+    if constexpr (Model::kPlastic)
+      return model.plastic_return(F_trial);
+    else
+      return {F_trial, T(0)};
+  }
+};
+
 struct IsPlastic {
   template <class Model>
   ROMP_HD bool operator()(const Model&) const {
@@ -200,6 +213,12 @@ ROMP_HD PrincipalStiffness<T> definite_stiffness(const MaterialParams<T>& params
 template <class T>
 ROMP_HD Mat3<T> project_plastic(const MaterialParams<T>& params, const Mat3<T>& F_trial) {
   return visit_model(params, material_detail::ProjectPlastic<T>{F_trial});
+}
+
+// project_plastic's F with the plastic strain the return map removed (0 for elastic models and the fluid).
+template <class T>
+ROMP_HD PlasticReturn<T> plastic_return(const MaterialParams<T>& params, const Mat3<T>& F_trial) {
+  return visit_model(params, material_detail::PlasticReturnOf<T>{F_trial});
 }
 
 // Whether project_plastic can change F: the plastic models and the fluid (whose F is reset to its

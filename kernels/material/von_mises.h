@@ -10,6 +10,7 @@
 
 #include "kernels/core/hd.h"
 #include "kernels/material/hencky.h"
+#include "kernels/material/plastic_return.h"
 #include "kernels/math/mat3.h"
 #include "kernels/math/vec3.h"
 #include "kernels/svd/svd3.h"
@@ -23,15 +24,17 @@ struct VonMises : HenckyStVK<T> {
   static constexpr bool kPlastic = true;
 
   // The elastic F on or inside the yield cylinder for a trial F; U, V and tr ε of the trial are kept.
-  ROMP_HD Mat3<T> project(const Mat3<T>& F_trial) const {
+  ROMP_HD PlasticReturn<T> plastic_return(const Mat3<T>& F_trial) const {
     const Svd3<T> svd = svd3(F_trial);
     const Vec3<T> strain = hencky_strain(svd.sigma);
     const Vec3<T> deviator = deviatoric(strain);
     const T deviator_norm = norm(deviator);
     const T yield_radius = yield_stress / (T(2) * this->mu);
-    if (!(deviator_norm > yield_radius)) return F_trial;
-    return from_hencky_strain(svd, strain - ((deviator_norm - yield_radius) / deviator_norm) * deviator);
+    if (!(deviator_norm > yield_radius)) return {F_trial, T(0)};
+    const T removed = deviator_norm - yield_radius;  // ‖Δε‖: the strain moves along the deviator
+    return {from_hencky_strain(svd, strain - (removed / deviator_norm) * deviator), removed};
   }
+  ROMP_HD Mat3<T> project(const Mat3<T>& F_trial) const { return plastic_return(F_trial).F; }
 };
 
 }  // namespace romp::material

@@ -12,6 +12,7 @@
 
 #include "kernels/core/hd.h"
 #include "kernels/material/fixed_corotated.h"
+#include "kernels/material/plastic_return.h"
 #include "kernels/material/volume.h"
 #include "kernels/math/mat3.h"
 #include "kernels/math/scalar.h"
@@ -55,6 +56,8 @@ struct WeaklyCompressibleFluid {
     const T stretch = std::cbrt(J);
     return Mat3<T>::diag(stretch, stretch, stretch);
   }
+  // A fluid keeps no plastic state: resetting its shear is not plastic flow of a solid.
+  ROMP_HD PlasticReturn<T> plastic_return(const Mat3<T>& F_trial) const { return {project(F_trial), T(0)}; }
 };
 
 }  // namespace romp::material

@@ -55,9 +55,15 @@ struct ProjectPlasticity {
 
   ROMP_HD void operator()(Index p) const {
     if (particles.dirichlet_group[p] != kNoDirichletGroup) return;
-    const Mat3<float> F = material::project_plastic(step.materials[particles.material[p]], particles.F.load(p));
+    const Mat3<float> F_trial = particles.F.load(p);
+    const material::PlasticReturn<float> plastic =
+        material::plastic_return(step.materials[particles.material[p]], F_trial);
+    const Mat3<float>& F = plastic.F;
     if (!is_finite(F)) atomic_min(&step.first_failure[int(Stage::Plasticity)], std::int64_t(p));
     particles.F.store(p, F);
+    if (particles.Jp.empty() || F == F_trial) return;
+    particles.Jp[p] *= determinant(F_trial) / determinant(F);
+    particles.plastic_strain[p] += plastic.strain;
   }
 };
 

@@ -33,6 +33,7 @@ struct P2GParticle {
     momentum = mass * v;
     for (Index l = 0; l < step.loads.size(); ++l)
       if (step.loads[l].contains(x)) momentum += (mass * step.dt) * step.loads[l].acceleration;
+    momentum += step.dt * traction_force(step, particles, p);
   }
 
   // The weight of node base + (i, j, k) and the momentum it receives.

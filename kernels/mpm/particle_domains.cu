@@ -68,7 +68,7 @@ struct ParticlesToCorners {
     const float mass = particles.mass[p];
     const Vec3<float> x = particles.x.load(p);
     const Vec3<float> momentum = mass * particles.v.load(p);
-    Vec3<float> load_force = Vec3<float>::zero();
+    Vec3<float> load_force = traction_force(step, particles, p);
     for (Index l = 0; l < step.loads.size(); ++l)
       if (step.loads[l].contains(x)) load_force += mass * step.loads[l].acceleration;
     const Mat3<float> volume_stress = particles.volume0[p] * P;

@@ -187,7 +187,9 @@ ParticleSet::ParticleSet(Backend backend, const ParticleInit& init) : backend_(b
       "every per-particle array needs " + std::to_string(n) + " entries");
   ROMP_CHECK(init.domain.empty() || Index(init.domain.size()) == n,
              "the per-particle domain index needs " + std::to_string(n) + " entries (or none)");
-  reals_ = DeviceBuffer<float>(backend, kRealPlanes * n);
+  ROMP_CHECK(init.plastic.empty() || Index(init.plastic.size()) == 2 * n,
+             "the plastic state needs 2 planes of " + std::to_string(n) + " (or none)");
+  reals_ = DeviceBuffer<float>(backend, (init.plastic.empty() ? kRealPlanes : kPlasticRealPlanes) * n);
   reals_.fill_zero();  // C = 0 unless given
   auto upload_planes = [&](const std::vector<float>& host, int first, int planes) {
     upload(backend, reals(first, planes), Span<const float>(host.data(), Index(host.size())));
@@ -198,13 +200,20 @@ ParticleSet::ParticleSet(Backend backend, const ParticleInit& init) : backend_(b
   if (!init.F.empty()) upload_planes(init.F, kF, 9);
   upload_planes(init.mass, kMass, 1);
   upload_planes(init.volume0, kVolume0, 1);
-  integers_ = DeviceBuffer<std::int32_t>(backend, (init.domain.empty() ? kDomain : kDomain + 1) * n);
+  if (!init.plastic.empty()) upload_planes(init.plastic, kJp, 2);
+  ROMP_CHECK(init.traction.empty() || Index(init.traction.size()) == n,
+             "the per-particle traction index needs " + std::to_string(n) + " entries (or none)");
+  int integer_planes = kFixedIntegerPlanes;
+  if (!init.domain.empty()) domain_plane_ = integer_planes++;
+  if (!init.traction.empty()) traction_plane_ = integer_planes++;
+  integers_ = DeviceBuffer<std::int32_t>(backend, integer_planes * n);
   auto upload_integers = [&](const std::vector<std::int32_t>& host, int plane) {
     upload(backend, integers(plane), Span<const std::int32_t>(host.data(), Index(host.size())));
   };
   upload_integers(init.material, kMaterial);
   upload_integers(init.dirichlet_group, kDirichletGroup);
-  if (!init.domain.empty()) upload_integers(init.domain, kDomain);
+  if (domain_plane_ >= 0) upload_integers(init.domain, domain_plane_);
+  if (traction_plane_ >= 0) upload_integers(init.traction, traction_plane_);
   const Exec exec = backend == Backend::Cuda ? Exec::cuda() : Exec::cpu();
   if (init.F.empty()) for_each(exec, n, SetIdentity{Mat3Planes<float>(reals(kF, 9).data(), n)});
   for_each(exec, n, SetIota{integers(kId)});
@@ -223,7 +232,10 @@ ParticleView ParticleSet::view() {
                       integers(kMaterial),
                       integers(kDirichletGroup),
                       integers(kId),
-                      has_domains() ? integers(kDomain) : Span<std::int32_t>()};
+                      has_domains() ? integers(domain_plane_) : Span<std::int32_t>(),
+                      has_plastic_state() ? reals(kJp, 1) : Span<float>(),
+                      has_plastic_state() ? reals(kPlasticStrain, 1) : Span<float>(),
+                      traction_plane_ >= 0 ? integers(traction_plane_) : Span<std::int32_t>()};
 }
 
 std::size_t ParticleSet::bytes() const { return reals_.bytes() + integers_.bytes(); }
@@ -244,7 +256,7 @@ void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
   DeviceBuffer<std::int32_t>& integers = sized(scratch.integers, backend_, integers_.size());
   for_each(exec, n,
            GatherParticle{
-               GatherPlanes<float>{reals_.span(), n, reals.span(), by_block, kRealPlanes},
+               GatherPlanes<float>{reals_.span(), n, reals.span(), by_block, int(reals_.size() / n)},
                GatherPlanes<std::int32_t>{integers_.span(), n, integers.span(), by_block, int(integers_.size() / n)}});
   std::swap(reals_, reals);
   std::swap(integers_, integers);
@@ -273,8 +285,11 @@ std::vector<float> ParticleSet::deformation_gradients_in_initial_order(const Exe
 std::vector<float> ParticleSet::affine_velocities_in_initial_order(const Exec& exec) const {
   return planes_in_initial_order<float>(exec, reals(kC, 9), 9);
 }
+std::vector<float> ParticleSet::plastic_state_in_initial_order(const Exec& exec) const {
+  return has_plastic_state() ? planes_in_initial_order<float>(exec, reals(kJp, 2), 2) : std::vector<float>{};
+}
 std::vector<std::int32_t> ParticleSet::domains_in_initial_order(const Exec& exec) const {
-  return has_domains() ? planes_in_initial_order<std::int32_t>(exec, integers(kDomain), 1)
+  return has_domains() ? planes_in_initial_order<std::int32_t>(exec, integers(domain_plane_), 1)
                        : std::vector<std::int32_t>{};
 }
 

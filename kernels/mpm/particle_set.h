@@ -12,6 +12,7 @@
 namespace romp::mpm {
 
 inline constexpr std::int32_t kNoDirichletGroup = -1;
+inline constexpr std::int32_t kNoTraction = -1;
 
 // What kernels see: planes and spans, no ownership.
 struct ParticleView {
@@ -26,6 +27,13 @@ struct ParticleView {
   Span<std::int32_t> dirichlet_group;  // index into the step's prescribed motions, or kNoDirichletGroup
   Span<std::int32_t> id;               // index of the particle in the initial state (sorting permutes the arrays)
   Span<std::int32_t> domain;           // the particle's hexahedral domain, or kNoDomain; empty when no particle has one
+  // The plastic state, kept where a scene has a plastic material (empty otherwise): J_p, the volume
+  // ratio the return maps removed (Π det F_trial / det F), and the plastic strain accumulated by them
+  // (Σ ‖Δε‖, material::PlasticReturn).
+  Span<float> Jp, plastic_strain;
+  // The surface traction a particle carries (index into StepParams::tractions), or kNoTraction; empty
+  // when the scene has none.
+  Span<std::int32_t> traction;
 
   // Particles with a domain exchange with the grid through its corners (particle_domains.h), not
   // through their own stencil.
@@ -40,6 +48,9 @@ struct ParticleInit {
   std::vector<float> mass, volume0;
   std::vector<std::int32_t> material, dirichlet_group;
   std::vector<std::int32_t> domain;  // per particle: index into `domains`, or kNoDomain; empty when none has one
+  // J_p then the plastic strain (2 planes) when the plastic state is kept (ParticleView), else empty.
+  std::vector<float> plastic;
+  std::vector<std::int32_t> traction;  // per particle: index into the tractions, or kNoTraction; empty when none
   DomainInit domains;
   Index count() const { return Index(mass.size()); }
 };
@@ -83,6 +94,8 @@ class ParticleSet {
   std::vector<float> velocities_in_initial_order(const Exec& exec) const;
   std::vector<float> deformation_gradients_in_initial_order(const Exec& exec) const;
   std::vector<float> affine_velocities_in_initial_order(const Exec& exec) const;
+  // J_p and the plastic strain (2 planes), or empty when the plastic state is not kept.
+  std::vector<float> plastic_state_in_initial_order(const Exec& exec) const;
   // Each particle's domain index (kNoDomain once released); empty when no particle had one.
   std::vector<std::int32_t> domains_in_initial_order(const Exec& exec) const;
 
@@ -92,10 +105,22 @@ class ParticleSet {
 
   // The particle arrays as planes of count_ in two allocations, so that one launch permutes them all
   // (the sort's gathers were ten launches: the step's largest share of launches in small scenes).
-  // Real planes: x (3), v (3), C (9), F (9), mass, volume0; integer planes: material, Dirichlet group,
-  // id, and the domain where a particle has one.
-  enum RealPlane : int { kX = 0, kV = 3, kC = 6, kF = 15, kMass = 24, kVolume0 = 25, kRealPlanes = 26 };
-  enum IntegerPlane : int { kMaterial = 0, kDirichletGroup = 1, kId = 2, kDomain = 3 };
+  // Real planes: x (3), v (3), C (9), F (9), mass, volume0, and J_p and the plastic strain where the
+  // plastic state is kept; integer planes: material, Dirichlet group, id, then the domain where a
+  // particle has one and the traction where the scene has some (domain_plane_, traction_plane_).
+  enum RealPlane : int {
+    kX = 0,
+    kV = 3,
+    kC = 6,
+    kF = 15,
+    kMass = 24,
+    kVolume0 = 25,
+    kRealPlanes = 26,
+    kJp = 26,
+    kPlasticStrain = 27,
+    kPlasticRealPlanes = 28
+  };
+  enum IntegerPlane : int { kMaterial = 0, kDirichletGroup = 1, kId = 2, kFixedIntegerPlanes = 3 };
   Span<float> reals(int first, int planes) {
     return reals_.span().subspan(Index(first) * count_, Index(planes) * count_);
   }
@@ -104,12 +129,14 @@ class ParticleSet {
   }
   Span<std::int32_t> integers(int plane) { return integers_.span().subspan(Index(plane) * count_, count_); }
   Span<const std::int32_t> integers(int plane) const { return integers_.span().subspan(Index(plane) * count_, count_); }
-  bool has_domains() const { return integers_.size() > Index(kDomain) * count_; }
+  bool has_domains() const { return domain_plane_ >= 0; }
+  bool has_plastic_state() const { return reals_.size() > Index(kRealPlanes) * count_; }
 
   Backend backend_;
   Index count_;
   DeviceBuffer<float> reals_;
   DeviceBuffer<std::int32_t> integers_;
+  int domain_plane_ = -1, traction_plane_ = -1;  // their integer planes, or -1 when absent
   DeviceBuffer<std::int32_t> block_starts_;
   Index block_count_ = 0;
   BlockSortScratch sort_scratch_;

@@ -2,6 +2,7 @@
 // plastic return map when the scene has plastic materials). The host composes them; see FullOrderSim.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "kernels/core/atomic.h"
@@ -90,11 +91,21 @@ struct StepParams {
   Span<const ColliderState> colliders;
   Span<const RigidMotion> dirichlet;
   Span<const RegionLoad> loads;
+  // Per traction (ParticleView::traction): its traction now, Pa per reference area, 0 while inactive.
+  Span<const Vec3<float>> tractions;
   Span<std::int64_t> first_failure;  // kStageCount slots, kNoFailure until a stage sees a non-finite value
   // The first Piola stress of every particle whose material is MaterialModel::Neural, in this
   // substep's particle order (the host evaluates it after the sort); empty when no material is.
   Mat3Planes<const float> host_stress;
 };
+
+// The force of particle p's surface traction (N): the traction times the particle's share of the loaded
+// reference surface, V₀^(2/3) (one layer of a lattice sampling: h² each); 0 without one.
+ROMP_HD inline Vec3<float> traction_force(const StepParams& step, const ParticleView& particles, Index p) {
+  if (particles.traction.empty() || particles.traction[p] == kNoTraction) return Vec3<float>::zero();
+  const float side = std::cbrt(particles.volume0[p]);
+  return (side * side) * step.tractions[particles.traction[p]];
+}
 
 // The first Piola stress of particle p at its F: the host's value for a neural material, the
 // model's P(F) for every other (and NaN for a neural one when the host supplied none, host_evaluated.h).

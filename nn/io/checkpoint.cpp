@@ -45,6 +45,14 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
       if (!(info.bit & kStateFields)) continue;
       file.write_dataset(info.name, {std::uint64_t(info.components), n}, state.field(info.bit));
     }
+    // The plastic state where the run keeps one (absent from checkpoints of runs that keep none).
+    for (const FieldInfo& info : kFieldInfos)
+      if ((info.bit & kPlasticFields) && !state.field(info.bit).empty()) {
+        if (state.field(info.bit).size() != n)
+          throw Error(fmt::format("checkpoint {}: {} has {} values for {} particles", path, info.name,
+                                  state.field(info.bit).size(), n));
+        file.write_dataset(info.name, {1, n}, state.field(info.bit));
+      }
     if (!checkpoint.corner_x.empty()) {
       if (checkpoint.corner_x.size() % 3 != 0)
         throw Error(
@@ -74,6 +82,13 @@ Checkpoint read_checkpoint(const std::string& path) {
         file.read_dataset<float>(info.name, {std::uint64_t(info.components), std::uint64_t(n)});
     require_finite(file, info.name, checkpoint.state.field(info.bit));
   }
+  for (const FieldInfo& info : kFieldInfos)
+    if ((info.bit & kPlasticFields) && file.is_dataset(info.name)) {
+      checkpoint.state.field(info.bit) = file.read_dataset<float>(info.name, {1, std::uint64_t(n)});
+      require_finite(file, info.name, checkpoint.state.field(info.bit));
+    }
+  if (checkpoint.state.Jp.empty() != checkpoint.state.plastic_strain.empty())
+    throw UnusableFileError(fmt::format("{}: holds one of Jp and plastic_strain without the other", file.label()));
   // A run writes a checkpoint only after a finite frame: anything else is not a state to resume from.
   if (!std::isfinite(checkpoint.state.time) || checkpoint.state.time < 0.0 || checkpoint.frame < 0 ||
       checkpoint.state.step < 0) {

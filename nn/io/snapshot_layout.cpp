@@ -55,6 +55,8 @@ const std::vector<float>& FrameData::field(FieldMask bit) const {
     case kFieldJ: return J;
     case kFieldVonMises: return von_mises;
     case kFieldEnergyDensity: return energy_density;
+    case kFieldJp: return Jp;
+    case kFieldPlasticStrain: return plastic_strain;
     default: throw Error(fmt::format("FrameData::field: {} is not a single field bit", bit));
   }
 }

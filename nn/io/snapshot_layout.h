@@ -11,9 +11,9 @@
 //              group [n] i32 (Dirichlet group at t = 0, -1 for none; absent in files before it was written)
 //   /frames/NNNNNN   (6-digit frame index) attributes time (f64, s) and step (i64), datasets among
 //                    x [n,3], v [n,3], F [n,3,3], C [n,3,3], stress [n,3,3], J [n], von_mises [n],
-//                    energy_density [n] (f32, one row per particle, F[p][i][j] = F_ij); with the totals
-//                    (FrameTotals) also the attributes kinetic_energy, elastic_energy, gravitational_energy
-//                    (f64, J) and linear_momentum, angular_momentum (3 × f64, kg m/s and kg m²/s)
+//                    energy_density [n], Jp [n], plastic_strain [n] (f32, one row per particle, F[p][i][j] = F_ij);
+//                    with the totals (FrameTotals) also the attributes kinetic_energy, elastic_energy,
+//                    gravitational_energy (f64, J) and linear_momentum, angular_momentum (3 × f64, kg m/s and kg m²/s)
 // Beside it: `out.xdmf` (ParaView), `out.h5.checkpoint` (resume), `out_ply/frame_NNNNNN.ply` (Blender, Houdini).
 #pragma once
 
@@ -42,24 +42,30 @@ inline constexpr FieldMask kFieldStress = 1u << 4;         // Cauchy stress σ =
 inline constexpr FieldMask kFieldJ = 1u << 5;              // det F, the elastic volume ratio
 inline constexpr FieldMask kFieldVonMises = 1u << 6;       // √(3/2 s:s) of σ's deviator s (Pa)
 inline constexpr FieldMask kFieldEnergyDensity = 1u << 7;  // ψ(F), J per m³ of reference volume
-// The state a simulation continues from (what a checkpoint holds).
+// The plastic state, kept where a scene has a plastic material (mpm::ParticleView::Jp):
+inline constexpr FieldMask kFieldJp = 1u << 8;             // J_p, the volume ratio removed by return maps
+inline constexpr FieldMask kFieldPlasticStrain = 1u << 9;  // Σ ‖Δε‖ of the return maps' Hencky strain
+// The state every simulation continues from (what every checkpoint holds; the plastic state besides).
 inline constexpr FieldMask kStateFields = kFieldX | kFieldV | kFieldF | kFieldC;
 inline constexpr FieldMask kDerivedFields = kFieldStress | kFieldJ | kFieldVonMises | kFieldEnergyDensity;
-inline constexpr FieldMask kAllFields = kStateFields | kDerivedFields;
+inline constexpr FieldMask kPlasticFields = kFieldJp | kFieldPlasticStrain;
+inline constexpr FieldMask kAllFields = kStateFields | kDerivedFields | kPlasticFields;
 
 struct FieldInfo {
   FieldMask bit;
   const char* name;  // dataset name in a frame group
   int components;    // 1 for scalars, 3 for vectors, 9 for 3x3 matrices
 };
-inline constexpr std::array<FieldInfo, 8> kFieldInfos{{{kFieldX, "x", 3},
-                                                       {kFieldV, "v", 3},
-                                                       {kFieldF, "F", 9},
-                                                       {kFieldC, "C", 9},
-                                                       {kFieldStress, "stress", 9},
-                                                       {kFieldJ, "J", 1},
-                                                       {kFieldVonMises, "von_mises", 1},
-                                                       {kFieldEnergyDensity, "energy_density", 1}}};
+inline constexpr std::array<FieldInfo, 10> kFieldInfos{{{kFieldX, "x", 3},
+                                                        {kFieldV, "v", 3},
+                                                        {kFieldF, "F", 9},
+                                                        {kFieldC, "C", 9},
+                                                        {kFieldStress, "stress", 9},
+                                                        {kFieldJ, "J", 1},
+                                                        {kFieldVonMises, "von_mises", 1},
+                                                        {kFieldEnergyDensity, "energy_density", 1},
+                                                        {kFieldJp, "Jp", 1},
+                                                        {kFieldPlasticStrain, "plastic_strain", 1}}};
 
 // A field's dataset shape in a frame group: [n], [n,3] or [n,3,3].
 std::vector<std::uint64_t> field_shape(const FieldInfo& info, std::uint64_t n);
@@ -82,6 +88,7 @@ struct FrameData {
   std::int64_t step = 0;  // substeps taken so far
   std::vector<float> x, v, F, C;
   std::vector<float> stress, J, von_mises, energy_density;
+  std::vector<float> Jp, plastic_strain;  // empty where no plastic state is kept
   std::optional<FrameTotals> totals;
 
   std::vector<float>& field(FieldMask bit);

@@ -282,14 +282,47 @@ void expect_resume_is_bitwise(const scene::Scene& scene, const test::ScratchFold
     EXPECT_EQ(fa.v, fb.v) << "frame " << k;
     EXPECT_EQ(fa.F, fb.F) << "frame " << k;
     EXPECT_EQ(fa.C, fb.C) << "frame " << k;
+    EXPECT_EQ(fa.Jp, fb.Jp) << "frame " << k;
+    EXPECT_EQ(fa.plastic_strain, fb.plastic_strain) << "frame " << k;
   }
   // Resuming a finished run does nothing.
   const RunResult third = run_scene(one_thread, scene, parts);
   EXPECT_EQ(third.frames_written, 0);
 }
 
+// The sand's plastic state (J_p and the plastic strain) is part of what a checkpoint restores.
+const char* const kPlasticOutput = R"(
+[output]
+fields = ["x", "v", "F", "C", "Jp", "plastic_strain"]
+)";
+
 TEST_F(SceneRunner, ResumedRunIsBitwiseTheUninterruptedRun) {
-  expect_resume_is_bitwise(scene::parse_scene(cube_scene("sand"), "cube.toml"), folder_);
+  expect_resume_is_bitwise(scene::parse_scene(cube_scene("sand", kPlasticOutput), "cube.toml"), folder_);
+}
+
+// Sand thrown against the walls flows: its return maps change the volume (J_p) and remove strain,
+// accumulated per particle from 1 and 0; an elastic scene has no plastic state to write.
+TEST_F(SceneRunner, SandWritesItsPlasticStateAndJellyHasNone) {
+  const RunOptions o = options("sand.h5");
+  run_scene(Exec::cpu(), scene::parse_scene(cube_scene("sand", kPlasticOutput), "cube.toml"), o);
+  const io::SnapshotReader reader(o.output);
+  const io::FrameData first = reader.read_frame(0), last = reader.read_frame(reader.frame_count() - 1);
+  const std::size_t n = std::size_t(reader.particle_count());
+  EXPECT_EQ(first.Jp, std::vector<float>(n, 1.0f));
+  EXPECT_EQ(first.plastic_strain, std::vector<float>(n, 0.0f));
+  std::size_t flowed = 0;
+  for (std::size_t p = 0; p < n; ++p) {
+    EXPECT_GE(last.plastic_strain[p], 0.0f);
+    EXPECT_GT(last.Jp[p], 0.0f);
+    flowed += last.plastic_strain[p] > 0.0f && last.Jp[p] != 1.0f;
+  }
+  EXPECT_GT(flowed, n / 10) << "of " << n;
+  const std::string message = test::error_message([&] {
+    run_scene(Exec::cpu(), scene::parse_scene(cube_scene("jelly", kPlasticOutput), "cube.toml"), options("j.h5"));
+  });
+  EXPECT_NE(message.find("output.fields Jp, plastic_strain: no particle of this run keeps a plastic state"),
+            std::string::npos)
+      << message;
 }
 
 // With particle domains the checkpoint also carries the corners, the CFL's stiffening and which

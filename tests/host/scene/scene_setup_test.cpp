@@ -242,5 +242,53 @@ TEST(SceneSetup, ASnapshotFrameGivesTheParticlesPositionsVelocitiesAndVolumes) {
   EXPECT_NE(past.find("points_frame = 2, but the snapshot holds frames 0 .. 1"), std::string::npos) << past;
 }
 
+// A traction on the top face of a free cube (no gravity): the particles of its top layer carry it, each
+// with its h² of the face, so the body's momentum grows at traction × face area, and the particles below
+// carry none.
+TEST(SceneSetup, ATractionPushesTheBodyWithTractionTimesTheLoadedArea) {
+  // The cube [0.4, 0.6]³ sampled at h = 0.025 (dx 0.05, 2 per cell): the top layer at y = 0.5875.
+  const Scene scene = parse_scene(cube_scene("", R"(
+[[loads.tractions]]
+name = "lid"
+region = { type = "box", center = [0.5, 0.5875, 0.5], size = [0.3, 0.02, 0.3] }
+traction = [0, -50, 10]
+end = 0.01
+)"),
+                                  "lid.toml");
+  ASSERT_EQ(scene.tractions.size(), 1u);
+  const SceneSetup setup = build_scene(scene);
+  const mpm::ParticleInit& init = setup.particles;
+  const Index n = init.count();
+  Index loaded = 0;
+  for (Index p = 0; p < n; ++p) {
+    const bool top = at(init.x, n, p)[1] > 0.58;
+    EXPECT_EQ(init.traction[std::size_t(p)], top ? 0 : mpm::kNoTraction) << p;
+    loaded += top;
+  }
+  ASSERT_EQ(loaded, 64);  // 8 × 8 particles on a 0.2 m face
+  engine::FullOrderSim sim(Exec::cpu(), setup.config, init);
+  sim.advance_to(0.02);  // the traction acts for the first 0.01 s only
+  const std::vector<float> v = sim.particles().velocities_in_initial_order(sim.exec());
+  Vec3<double> momentum = Vec3<double>::zero();
+  for (Index p = 0; p < n; ++p) momentum += at(v, n, p) * double(init.mass[std::size_t(p)]);
+  const double area = 0.2 * 0.2, duration = 0.01;
+  EXPECT_NEAR(momentum[0], 0.0, 1e-6);
+  EXPECT_NEAR(momentum[1], -50.0 * area * duration, 1e-3 * 50.0 * area * duration);
+  EXPECT_NEAR(momentum[2], 10.0 * area * duration, 1e-3 * 50.0 * area * duration);
+}
+
+TEST(SceneSetup, ATractionWhoseRegionHoldsNoParticleIsRefused) {
+  const std::string message = test::error_message([] {
+    build_scene(parse_scene(cube_scene("", R"(
+[[loads.tractions]]
+region = { type = "sphere", center = [0.1, 0.1, 0.1], radius = 0.01 }
+traction = [0, -50, 0]
+)"),
+                            "empty.toml"));
+  });
+  EXPECT_NE(message.find("loads.tractions 'traction0': its region holds no particle at t = 0"), std::string::npos)
+      << message;
+}
+
 }  // namespace
 }  // namespace romp::scene

@@ -456,6 +456,25 @@ TEST_P(DruckerPragerReturn, ExpandedStatesProjectToTheConeTip) {
   EXPECT_GT(expanded, 40);
 }
 
+// The plastic strain a return reports is the Hencky strain it removed, and its F is project's.
+template <class Model>
+void expect_plastic_return_reports_the_removed_strain(const Model& model, const std::vector<TrialState>& trials) {
+  int flowed = 0;
+  for (const TrialState& trial : trials) {
+    const PlasticReturn<double> plastic = model.plastic_return(trial.F);
+    EXPECT_EQ(plastic.F, model.project(trial.F));
+    const Vec removed = trial.strain - in_trial_frame(trial, plastic.F).strain;
+    EXPECT_NEAR(plastic.strain, std::sqrt(removed[0] * removed[0] + removed[1] * removed[1] + removed[2] * removed[2]),
+                1e-10);
+    flowed += plastic.strain > 0.0;
+  }
+  EXPECT_GT(flowed, 40);
+}
+
+TEST_P(DruckerPragerReturn, ThePlasticStrainIsTheStrainRemoved) {
+  expect_plastic_return_reports_the_removed_strain(model(), trials());
+}
+
 TEST_P(DruckerPragerReturn, EveryProjectedStateIsAdmissible) {
   for (const TrialState& trial : trials()) {
     const PrincipalView projected = in_trial_frame(trial, model().project(trial.F));
@@ -496,6 +515,10 @@ TEST_F(VonMisesReturn, StatesInsideTheYieldCylinderAreUnchanged) {
     EXPECT_EQ(model.project(trial.F), trial.F);
   }
   EXPECT_GT(inside, 40);
+}
+
+TEST_F(VonMisesReturn, ThePlasticStrainIsTheStrainRemoved) {
+  expect_plastic_return_reports_the_removed_strain(model, trials());
 }
 
 TEST_F(VonMisesReturn, OutsideStatesReturnToTheYieldRadiusAtConstantVolume) {
