@@ -48,6 +48,8 @@ inline SnapshotHeader random_header(std::int64_t n, std::mt19937& random) {
   std::uniform_int_distribution<std::int32_t> material(0, 4);
   header.material.resize(std::size_t(n));
   for (std::int32_t& id : header.material) id = material(random);
+  header.group.resize(std::size_t(n));
+  for (std::int32_t& group : header.group) group = material(random) - 1;  // −1: none
   header.scene = "[scene]\nname = \"test\"\n# résolu\n";
   header.parameter_names = {"E", "nu"};
   header.parameter_values = {1e5, 0.3};
@@ -61,10 +63,16 @@ inline FrameData random_frame(std::int64_t n, double time, std::int64_t step, st
   FrameData frame;
   frame.time = time;
   frame.step = step;
-  frame.x = random_floats(std::size_t(3 * n), random);
-  frame.v = random_floats(std::size_t(3 * n), random);
-  frame.F = random_floats(std::size_t(9 * n), random);
-  frame.C = random_floats(std::size_t(9 * n), random);
+  // Every field a snapshot can hold, and the totals.
+  for (const FieldInfo& info : kFieldInfos)
+    frame.field(info.bit) = random_floats(std::size_t(info.components * n), random);
+  FrameTotals totals;
+  totals.kinetic_energy = random_floats(1, random)[0];
+  totals.elastic_energy = 1.0 / 3.0;
+  totals.gravitational_energy = -random_floats(1, random)[0];
+  totals.linear_momentum = {1.0, -2.0, 1e-300};
+  totals.angular_momentum = {0.0, -0.0, 7.0};
+  frame.totals = totals;
   return frame;
 }
 

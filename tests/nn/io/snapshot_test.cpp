@@ -67,6 +67,7 @@ TEST_F(Snapshot, EveryFieldRoundTripsBitwise) {
   EXPECT_TRUE(bitwise_equal(reader.header().mass, header.mass));
   EXPECT_TRUE(bitwise_equal(reader.header().volume0, header.volume0));
   EXPECT_EQ(reader.header().material, header.material);
+  EXPECT_EQ(reader.header().group, header.group);
   for (std::int64_t k = 0; k < 4; ++k) {
     const FrameData frame = reader.read_frame(k);
     const FrameData& expected = frames[std::size_t(k)];
@@ -74,10 +75,14 @@ TEST_F(Snapshot, EveryFieldRoundTripsBitwise) {
     EXPECT_EQ(frame.step, expected.step);
     EXPECT_EQ(reader.frame_time(k), expected.time);
     EXPECT_EQ(reader.frame_step(k), expected.step);
-    EXPECT_TRUE(bitwise_equal(frame.x, expected.x)) << "frame " << k;
-    EXPECT_TRUE(bitwise_equal(frame.v, expected.v)) << "frame " << k;
-    EXPECT_TRUE(bitwise_equal(frame.F, expected.F)) << "frame " << k;
-    EXPECT_TRUE(bitwise_equal(frame.C, expected.C)) << "frame " << k;
+    for (const FieldInfo& info : kFieldInfos)
+      EXPECT_TRUE(bitwise_equal(frame.field(info.bit), expected.field(info.bit))) << info.name << ", frame " << k;
+    ASSERT_TRUE(frame.totals.has_value());
+    EXPECT_EQ(frame.totals->kinetic_energy, expected.totals->kinetic_energy);
+    EXPECT_EQ(frame.totals->elastic_energy, expected.totals->elastic_energy);
+    EXPECT_EQ(frame.totals->gravitational_energy, expected.totals->gravitational_energy);
+    EXPECT_EQ(frame.totals->linear_momentum, expected.totals->linear_momentum);
+    EXPECT_EQ(frame.totals->angular_momentum, expected.totals->angular_momentum);
   }
 }
 
@@ -95,7 +100,10 @@ TEST_F(Snapshot, DatasetsAreParticleMajorForOtherReaders) {
   EXPECT_EQ(file.read_dataset<std::int32_t>("/particles/id", {4}), (std::vector<std::int32_t>{0, 1, 2, 3}));
   EXPECT_EQ(file.read_string_attribute("format"), "romp-snapshot");
   EXPECT_EQ(file.read_int64_attribute("format_version"), 1);
-  EXPECT_EQ(file.read_strings_attribute("fields"), (std::vector<std::string>{"x", "v", "F", "C"}));
+  EXPECT_EQ(file.read_strings_attribute("fields"),
+            (std::vector<std::string>{"x", "v", "F", "C", "stress", "J", "von_mises", "energy_density", "Jp",
+                                      "plastic_strain"}));
+  EXPECT_EQ(file.read_dataset<float>("/frames/000000/J", {4}), frames[0].J);
 }
 
 TEST_F(Snapshot, OnlySelectedFieldsAreWritten) {
@@ -203,9 +211,9 @@ TEST_F(Snapshot, ResumeRejectsAFileOfAnotherRun) {
               SnapshotWriter::resume(path, other_scene, kAllFields, 1);
             }).find("was written for another scene"),
             std::string::npos);
-  EXPECT_NE(error_message([&] {
-              SnapshotWriter::resume(path, header, kFieldX, 1);
-            }).find("holds the fields x, v, F, C, this run writes x"),
+  EXPECT_NE(error_message([&] { SnapshotWriter::resume(path, header, kFieldX, 1); })
+                .find("holds the fields x, v, F, C, stress, J, von_mises, energy_density, Jp, plastic_strain, this run "
+                      "writes x"),
             std::string::npos);
   EXPECT_EQ(error_message([&] { SnapshotWriter::resume(path, header, kAllFields, 3); }),
             "snapshot " + partial_path(path) + ": holds 2 complete frames, the resume needs 3");

@@ -58,12 +58,13 @@ TEST_F(Xdmf, SidecarReferencesDatasetsThatExist) {
   SnapshotWriter writer(path, random_header(30, random), kAllFields);
   const std::filesystem::path sidecar = xdmf_path(path);
   EXPECT_EQ(sidecar, folder_.path() / "run.xdmf");
-  // Per frame: topology, geometry, v, F, C, and the five per-particle constants.
+  // Per frame: topology, geometry, the nine fields besides x, and the six per-particle constants (X, mass,
+  // volume0, material, group, id).
   expect_references_resolve(sidecar, "run.h5.partial", 0);
   for (int k = 0; k < 3; ++k) writer.append_frame(random_frame(30, 0.5 * k, k, random));
-  expect_references_resolve(sidecar, "run.h5.partial", 3 * 10);
+  expect_references_resolve(sidecar, "run.h5.partial", 3 * 17);
   writer.finish();
-  expect_references_resolve(sidecar, "run.h5", 3 * 10);
+  expect_references_resolve(sidecar, "run.h5", 3 * 17);
 }
 
 TEST_F(Xdmf, SidecarIsATemporalCollectionOfPointClouds) {
