@@ -3,37 +3,36 @@
 // from the deformation map g, runs the MPM update for a few sample material points, and projects
 // their updated velocities (and positions) back onto the manifold.
 //
-// Quadrature (Sec. 3.2.2). Lagrangian (Alg. 3): the samples and their neighbours, the material points
-// whose stencils reach the samples' grid nodes (kernels/rom/stencil_neighbours.h). Finding them takes
-// g's positions at every point (a forward pass, a quarter of what the full kinematics cost per point);
-// the Jacobians, P2G and the stress are then paid only at the neighbours. Where the neighbours would be
-// most of the body anyway (few points per sample's reach), every point is the quadrature, which gives
-// the samples the same P2G without the search. Eulerian (Alg. 4) places ℓ points per cell per axis in
-// the cells whose points reach the samples' grid nodes and inverts g there: its cost depends on the
-// sample count, not on P.
+// The parts own their buffers and can be tested alone: the map (deformation_map.h), the samples
+// (sample_set.h), the quadrature, Lagrangian or Eulerian behind one interface (reduced_quadrature.h),
+// and the projections of the reduced state (latent_projection.h); the substep runs them in the order
+// of Alg. 2, with the full-order P2G, grid update and G2P between.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "host/engine/deformation_map.h"
+#include "host/engine/latent_projection.h"
+#include "host/engine/quadrature_points.h"
+#include "host/engine/reduced_quadrature.h"
+#include "host/engine/sample_set.h"
 #include "host/engine/sim_config.h"
 #include "host/engine/step_inputs.h"
-#include "host/geometry/random.h"
 #include "kernels/core/device_buffer.h"
 #include "kernels/core/error.h"
 #include "kernels/core/event_timeline.h"
 #include "kernels/core/exec.h"
-#include "kernels/core/index_select.h"
 #include "kernels/math/vec3.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/rom/deformation_map_eval.h"
 #include "kernels/rom/eulerian_quadrature.h"
 #include "kernels/rom/position_projection.h"
-#include "kernels/rom/sample_neighbourhood.h"
 
 namespace romp::engine {
 
@@ -82,6 +81,9 @@ class ReducedSim {
   // encoder's value for the initial state); v̂ at t = 0 is the least-squares fit of reference.v.
   ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::ParticleInit& reference,
              rom::DeformationMapWeights map, std::vector<float> xhat, ReducedOptions options);
+  // The quadrature refers to the reference body and the simulation to its quadrature: not copied or moved.
+  ReducedSim(const ReducedSim&) = delete;
+  ReducedSim& operator=(const ReducedSim&) = delete;
 
   float stable_dt() const;
   void substep(float dt);
@@ -126,113 +128,45 @@ class ReducedSim {
   // The Eulerian quadrature's mass in the last substep (kg): with every point sampled, the body's mass.
   double last_quadrature_mass() const { return quadrature_tally().last_mass; }
   // Lagrangian quadrature: whether it searches the samples' neighbours.
-  bool searches_neighbours() const { return search_neighbours_; }
+  bool searches_neighbours() const { return lagrangian_ && lagrangian_->searches_neighbours(); }
   // The quadrature points of the last substep: Lagrangian, the samples and their neighbours or every
   // material point; Eulerian, the points inverted (inside the body or not; P2G reads those inside).
-  Index last_quadrature_count() const { return quadrature_.count; }
+  Index last_quadrature_count() const { return quadrature_->last_count(); }
   // Lagrangian quadrature points summed over the substeps so far.
-  std::int64_t lagrangian_quadrature_points() const { return lagrangian_points_; }
+  std::int64_t lagrangian_quadrature_points() const { return lagrangian_ ? lagrangian_->points_so_far() : 0; }
   std::vector<std::pair<std::string, double>> stage_seconds() const;
 
  private:
-  std::vector<std::int32_t> choose_samples();
-  void resize_samples(Index m);
-  // The quadrature points of this substep in quadrature_, and their view.
-  mpm::ParticleView lagrangian_quadrature(Index m);
-  void every_point_quadrature();
-  mpm::ParticleView eulerian_quadrature(Index m);
-  void build_occupancy(const mpm::ParticleInit& reference);
-  rom::DeformationMapView<float> map_view() const;
-  // Evaluates g at the reference points `X` (n of them) for x̂ on the device.
-  void evaluate_map(Vec3Planes<const float> X, const rom::DeformationMapOutputs<float>& out);
-  Span<float> xhat_device() { return latent_device_.span().subspan(0, latent_); }
-  Span<float> vhat_device() { return latent_device_.span().subspan(latent_, latent_); }
-  // Solves the r × r system of rom::normal_equations on the host; returns (y, squared residual at y = 0).
-  std::pair<std::vector<double>, double> solve_projection(Span<const float> dg_dxhat, Vec3Planes<const float> target,
-                                                          Vec3Planes<const float> reference);
-  // The error of a projection whose normal equations have no solution.
-  Error singular_projection() const;
   // Throws NonFiniteError when x̂ or v̂ is not finite after `stage`.
   void check_latent(const char* stage) const;
   // Throws NonFiniteError naming the material point when one of the `count` positions in `x` (3 planes: the
   // samples' or the Lagrangian quadrature's, `index` their material points, or empty for every point)
   // lies outside the grid's interior: x̂ has gone where the map no longer describes the body.
   void check_inside_domain(const DeviceBuffer<float>& x, Index count, Span<const std::int32_t> index);
+  // The error of a projection whose normal equations have no solution.
+  Error singular_projection() const;
   rom::QuadratureTally quadrature_tally() const;
-  rom::GaussNewtonState gauss_newton_state() const;  // zero without the position projection
 
   Exec exec_;
   FullOrderConfig config_;
   StepInputs inputs_;
   mpm::SparseGrid grid_;
   ReducedOptions options_;
-  rom::DeformationMapWeights map_;
-  DeviceBuffer<float> map_parameters_;
-  int latent_;
-  Index points_;
-
-  // The material points in reference order (X, mass, volume, material, Dirichlet group, id).
-  DeviceBuffer<float> X_, mass_, volume0_;
-  DeviceBuffer<std::int32_t> material_, dirichlet_group_, id_;
-  std::vector<std::int32_t> free_points_;                 // not in a Dirichlet group
-  std::vector<std::vector<std::int32_t>> group_members_;  // per Dirichlet group
-  // The quadrature points of a substep (Lagrangian: the samples and their neighbours, or every material
-  // point, in reference order).
-  struct Quadrature {
-    Index count = 0, capacity = 0;
-    DeviceBuffer<float> x, X, v, C, F, mass, volume0;
-    DeviceBuffer<std::int32_t> material, group, id, status;
-    void allocate(Backend backend, Index n);
-    // count = n, reallocating (with headroom) only when n exceeds the capacity; returns whether it did
-    // (the contents are then uninitialised, C aside).
-    bool resize(Backend backend, Index n);
-    // These points: the points `index` of `source` (all but C, which stays 0, and status).
-    void gather_from(const Exec& exec, const Quadrature& source, Span<const std::int32_t> index);
-    mpm::ParticleView view();
-  } quadrature_;
-  // Eulerian: the quadrature points inside the body, gathered for P2G (their indices in quadrature_).
-  Quadrature used_quadrature_;
-  // Buffers refilled every substep are grown to the largest count so far and reused (an allocation on
-  // CUDA synchronises the device); this step's elements are their prefix.
-  DeviceBuffer<std::int32_t> used_index_;
-  DeviceBuffer<std::int32_t> inversion_iterations_;                    // per Eulerian point, this substep
-  DeviceBuffer<std::int32_t> map_evaluations_, jacobian_evaluations_;  // likewise
-  DeviceBuffer<rom::QuadratureTally> tally_;                           // Eulerian: the running totals
-  IndexSelector select_indices_;                                       // the used points' and the neighbours' indices
-  DeviceBuffer<float> guesses_, guess_jacobians_;  // Eulerian: each point's first X and ∂g/∂X there
-  rom::SampleNeighbourhood neighbourhood_;         // the nodes and Eulerian points around the samples
-  // The reference state (X, mass, volume, material, Dirichlet group, id) of the material points `index`.
-  void gather_reference(Span<const std::int32_t> index, Quadrature& points);
-  DeviceBuffer<float> dg_dxhat_;  // Lagrangian: ∂g/∂x̂ at the quadrature points
-  // Lagrangian neighbour search: g's positions at every point, the base nodes near the samples, the
-  // points marked as neighbours and their indices.
-  bool search_neighbours_ = false;
-  DeviceBuffer<float> positions_;
-  DeviceBuffer<std::int32_t> marked_, quadrature_index_;
+  DeformationMap map_;
+  ReferenceBody reference_;
+  SampleSet samples_;
+  // The quadrature: one of the two, and `quadrature_` pointing to it.
+  std::optional<LagrangianQuadrature> lagrangian_;
+  std::optional<EulerianQuadrature> eulerian_;
+  ReducedQuadrature* quadrature_ = nullptr;
+  LatentProjection latent_;
   DeviceBuffer<std::int64_t> first_outside_;  // 1 slot for rom::find_point_outside
-  // The samples: reference and current state, ∂g/∂x̂ there, and g during Gauss–Newton.
-  Quadrature samples_;
-  DeviceBuffer<float> sample_dg_dxhat_, model_x_;
-  // Position–velocity: [x̂_{n−1} | x̂_n] and the Gauss–Newton state on the device (rom::project_positions).
-  DeviceBuffer<float> xhat_history_;
-  DeviceBuffer<rom::GaussNewtonState> projection_state_;
-  DeviceBuffer<std::int32_t> sample_index_;
-  // Eulerian: the occupancy of the reference configuration and ρ₀ per material.
-  DeviceBuffer<std::int32_t> occupancy_cells_;
-  rom::ReferenceOccupancy occupancy_;
-  DeviceBuffer<float> densities_;
-  // [x̂ | v̂ | status] on the device (rom::advance_latent), equal to xhat_ and vhat_ between substeps.
-  DeviceBuffer<float> latent_device_;
-  DeviceBuffer<float> speed_slot_;  // mpm::max_particle_speed's result
-  DeviceBuffer<double> system_;
+  DeviceBuffer<float> speed_slot_;            // mpm::max_particle_speed's result
 
-  std::vector<float> xhat_, vhat_;
-  bool has_previous_ = false;
-  geometry::Random random_;
+  std::vector<float> xhat_, vhat_;  // the device's [x̂ | v̂] after the last substep
   float max_sample_speed_ = 0.0f;
   double time_ = 0.0;
   std::int64_t steps_ = 0;
-  std::int64_t lagrangian_points_ = 0;
   std::vector<std::string> stages_;       // the stage table's names, in pipeline order
   mutable EventTimeline stage_timeline_;  // read when the table is asked for
 };

@@ -1,0 +1,122 @@
+// The quadrature of a reduced substep (ROM paper, Sec. 3.2.2): the points whose P2G gives the samples'
+// grid nodes their mass and force, behind one interface, Lagrangian (Alg. 3) or Eulerian (Alg. 4).
+//
+// Lagrangian: the samples and their neighbours, the material points whose stencils reach the samples'
+// grid nodes (kernels/rom/stencil_neighbours.h). Finding them takes g's positions at every point (a
+// forward pass, a quarter of what the full kinematics cost per point); the Jacobians, P2G and the
+// stress are then paid only at the neighbours. Where the neighbours would be most of the body anyway
+// (few points per sample's reach), every point is the quadrature, which gives the samples the same P2G
+// without the search. Eulerian: ℓ points per cell per axis in the cells whose points reach the samples'
+// grid nodes, with g inverted there: its cost depends on the sample count, not on the point count.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+
+#include "host/engine/deformation_map.h"
+#include "host/engine/quadrature_points.h"
+#include "host/engine/sample_set.h"
+#include "kernels/core/device_buffer.h"
+#include "kernels/core/exec.h"
+#include "kernels/core/index_select.h"
+#include "kernels/mpm/particle_set.h"
+#include "kernels/rom/eulerian_quadrature.h"
+#include "kernels/rom/sample_neighbourhood.h"
+
+namespace romp::engine {
+
+class ReducedQuadrature {
+ public:
+  virtual ~ReducedQuadrature() = default;
+
+  // The quadrature points at x̂_n, v̂_n around this substep's samples (decoded), for P2G.
+  virtual mpm::ParticleView build(const Exec& exec, const DeformationMap& map, const SampleSet& samples,
+                                  Span<const float> xhat, Span<const float> vhat) = 0;
+
+  // The material points of the last build whose positions g gave (they must lie inside the domain):
+  // positions (3 planes of count), and their material point indices (empty: point i is material point i).
+  struct MaterialPositions {
+    const DeviceBuffer<float>* x = nullptr;  // none for Eulerian points, which lie in cells by construction
+    Index count = 0;
+    Span<const std::int32_t> index;
+  };
+  virtual MaterialPositions material_positions() const = 0;
+
+  // How a failure report names point `slot` of the last build's P2G: its material point (−1 for none)
+  // and a description (may download the point).
+  virtual std::pair<std::int64_t, std::string> describe(const Exec& exec, std::int64_t slot) const = 0;
+
+  // The points of the last build (Eulerian: every point inverted, inside the body or not).
+  virtual Index last_count() const = 0;
+};
+
+class LagrangianQuadrature final : public ReducedQuadrature {
+ public:
+  // `search`: the samples' neighbours among the material points; otherwise every material point.
+  LagrangianQuadrature(const Exec& exec, const ReferenceBody& reference, int latent, float dx, bool search);
+
+  mpm::ParticleView build(const Exec& exec, const DeformationMap& map, const SampleSet& samples, Span<const float> xhat,
+                          Span<const float> vhat) override;
+  MaterialPositions material_positions() const override;
+  std::pair<std::int64_t, std::string> describe(const Exec& exec, std::int64_t slot) const override;
+  Index last_count() const override { return points_.count; }
+
+  bool searches_neighbours() const { return search_; }
+  // Quadrature points summed over the builds so far.
+  std::int64_t points_so_far() const { return points_so_far_; }
+
+ private:
+  const ReferenceBody& reference_;
+  int latent_;
+  float dx_;
+  bool search_;
+  std::int64_t points_so_far_ = 0;
+  QuadraturePoints points_;  // in reference order
+  DeviceBuffer<float> dg_dxhat_;
+  // The neighbour search: g's positions at every point, the points marked as neighbours, their indices.
+  DeviceBuffer<float> positions_;
+  DeviceBuffer<std::int32_t> marked_, index_;
+  rom::SampleNeighbourhood neighbourhood_;
+  IndexSelector select_;
+};
+
+// What the Eulerian quadrature needs of the scene besides the map.
+struct EulerianSettings {
+  rom::EulerianLattice lattice;     // dx, ℓ, the domain's cells, pruning
+  rom::InversionOptions inversion;  // iterations and tolerance (m) of g's inversion
+  std::vector<float> densities;     // ρ₀ per material (kg/m³)
+};
+
+class EulerianQuadrature final : public ReducedQuadrature {
+ public:
+  // `reference`: the material points in the reference configuration, which define the body (an
+  // occupancy grid as fine as the finest sampling) that Eulerian points must fall in.
+  EulerianQuadrature(const Exec& exec, const mpm::ParticleInit& reference, EulerianSettings settings);
+
+  mpm::ParticleView build(const Exec& exec, const DeformationMap& map, const SampleSet& samples, Span<const float> xhat,
+                          Span<const float> vhat) override;
+  MaterialPositions material_positions() const override { return {}; }
+  std::pair<std::int64_t, std::string> describe(const Exec& exec, std::int64_t slot) const override;
+  Index last_count() const override { return points_.count; }
+
+  // The running totals over the builds (a download).
+  rom::QuadratureTally tally(const Exec& exec) const { return tally_.to_host(exec.stream)[0]; }
+
+ private:
+  EulerianSettings settings_;
+  DeviceBuffer<std::int32_t> occupancy_cells_;
+  rom::ReferenceOccupancy occupancy_;
+  DeviceBuffer<float> densities_;
+  DeviceBuffer<rom::QuadratureTally> tally_;
+  QuadraturePoints points_;  // every point inverted
+  QuadraturePoints used_;    // those inside the body, gathered for P2G
+  // Refilled every build, grown to the largest count so far (an allocation on CUDA synchronises).
+  DeviceBuffer<std::int32_t> used_index_;
+  DeviceBuffer<std::int32_t> inversion_iterations_, map_evaluations_, jacobian_evaluations_;
+  DeviceBuffer<float> guesses_, guess_jacobians_;  // each point's first X and ∂g/∂X there
+  rom::SampleNeighbourhood neighbourhood_;
+  IndexSelector select_;
+};
+
+}  // namespace romp::engine

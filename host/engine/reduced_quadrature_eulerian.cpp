@@ -1,0 +1,121 @@
+// The Eulerian quadrature (ROM paper, Alg. 4): points on a lattice in the cells around the samples,
+// placed in the reference configuration by inverting g.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <utility>
+#include <vector>
+
+#include "host/engine/reduced_quadrature.h"
+#include "host/geometry/bounds.h"
+#include "kernels/core/error.h"
+
+namespace romp::engine {
+namespace {
+
+Vec3<float> planes_at(const std::vector<float>& planes, Index n, Index i) {
+  return Vec3<float>(planes[i], planes[n + i], planes[2 * n + i]);
+}
+
+}  // namespace
+
+EulerianQuadrature::EulerianQuadrature(const Exec& exec, const mpm::ParticleInit& reference, EulerianSettings settings)
+    : settings_(std::move(settings)) {
+  const Index n = reference.count();
+  // Cells as fine as the finest sampling: h = cbrt(the smallest particle volume).
+  const float h = std::cbrt(*std::min_element(reference.volume0.begin(), reference.volume0.end()));
+  const geometry::Bounds box = geometry::bounds_of_planes(reference.x, n);
+  const Vec3<float> low(float(box.low[0]), float(box.low[1]), float(box.low[2]));
+  const Vec3<float> high(float(box.high[0]), float(box.high[1]), float(box.high[2]));
+  rom::ReferenceOccupancy occupancy;
+  occupancy.inverse_h = 1.0f / h;
+  // The origin on the sampling lattice (points at (i + ½) h), so a lattice point's cube is one cell.
+  for (int a = 0; a < 3; ++a) {
+    occupancy.origin[a] = (std::floor(low[a] / h) - 2.0f) * h;
+    occupancy.cells[a] = int(std::ceil((high[a] - occupancy.origin[a]) / h)) + 3;
+  }
+  const Index cells = Index(occupancy.cells[0]) * occupancy.cells[1] * occupancy.cells[2];
+  ROMP_CHECK(cells < (Index(1) << 31), "the reference configuration's occupancy grid would exceed 2^31 cells");
+  std::vector<std::int32_t> material_plus_one(static_cast<std::size_t>(cells), 0);
+  // Each point owns the cells whose centres lie in its cube of side cbrt(volume) about it.
+  for (Index p = 0; p < n; ++p) {
+    const float half = 0.5f * std::cbrt(reference.volume0[p]);
+    int first[3], last[3];
+    for (int a = 0; a < 3; ++a) {
+      const float X = reference.x[a * n + p];
+      first[a] = std::max(0, int(std::ceil((X - half - occupancy.origin[a]) / h - 0.5f)));
+      last[a] = std::min(occupancy.cells[a] - 1, int(std::ceil((X + half - occupancy.origin[a]) / h - 0.5f)) - 1);
+    }
+    for (int k = first[2]; k <= last[2]; ++k)
+      for (int j = first[1]; j <= last[1]; ++j)
+        for (int i = first[0]; i <= last[0]; ++i)
+          material_plus_one[std::size_t((Index(k) * occupancy.cells[1] + j) * occupancy.cells[0] + i)] =
+              reference.material[p] + 1;
+  }
+  occupancy_cells_ = DeviceBuffer<std::int32_t>::from_host(exec.backend, material_plus_one);
+  occupancy.material_plus_one = Span<const std::int32_t>(occupancy_cells_.data(), occupancy_cells_.size());
+  occupancy_ = occupancy;
+  densities_ = DeviceBuffer<float>::from_host(exec.backend, settings_.densities);
+  tally_ = DeviceBuffer<rom::QuadratureTally>(exec.backend, 1);
+  tally_.fill_zero(exec.stream);
+}
+
+mpm::ParticleView EulerianQuadrature::build(const Exec& exec, const DeformationMap& map, const SampleSet& samples,
+                                            Span<const float> xhat, Span<const float> vhat) {
+  // Alg. 4, step 3: ℓ³ points in each cell whose points may reach a sample's grid nodes, of which only
+  // those whose stencils reach them (unless the lattice keeps them all), built on the device.
+  const Index count =
+      neighbourhood_.build_eulerian_points(exec, samples.X(), samples.x(), samples.F(), settings_.lattice);
+  // The count changes nearly every substep: the buffers grow with headroom and are otherwise reused.
+  if (points_.resize(exec.backend, count)) {
+    // No Eulerian point is a material point or in a Dirichlet group; set once for the whole capacity.
+    const Index capacity = points_.capacity;
+    std::vector<std::int32_t> none(static_cast<std::size_t>(capacity), mpm::kNoDirichletGroup), ids(none.size());
+    std::iota(ids.begin(), ids.end(), 0);
+    points_.group.copy_from_host(Span<const std::int32_t>(none.data(), capacity), exec.stream);
+    points_.id.copy_from_host(Span<const std::int32_t>(ids.data(), capacity), exec.stream);
+  }
+  inversion_iterations_.ensure_size(exec.backend, count);
+  map_evaluations_.ensure_size(exec.backend, count);
+  jacobian_evaluations_.ensure_size(exec.backend, count);
+  guesses_.ensure_size(exec.backend, 3 * count);
+  guess_jacobians_.ensure_size(exec.backend, 9 * count);
+  const Vec3Planes<float> guess(guesses_.data(), count);
+  const Mat3Planes<float> guess_jacobian(guess_jacobians_.data(), count);
+  neighbourhood_.write_eulerian_points(exec, Vec3Planes<float>(points_.x.data(), count), guess, guess_jacobian);
+  const float dx = settings_.lattice.dx;
+  const int l = settings_.lattice.points_per_cell;
+  const rom::EulerianPointsOut out{Vec3Planes<float>(points_.X.data(), count),
+                                   Vec3Planes<float>(points_.v.data(), count),
+                                   Mat3Planes<float>(points_.F.data(), count),
+                                   points_.mass.prefix(count),
+                                   points_.volume0.prefix(count),
+                                   points_.material.prefix(count),
+                                   points_.status.prefix(count),
+                                   inversion_iterations_.prefix(count),
+                                   map_evaluations_.prefix(count),
+                                   jacobian_evaluations_.prefix(count)};
+  rom::eulerian_quadrature(exec, map.view(), xhat, vhat, occupancy_, densities_.span(), dx * dx * dx / float(l * l * l),
+                           settings_.inversion, Vec3Planes<const float>(points_.x.data(), count),
+                           Vec3Planes<const float>(guess), Mat3Planes<const float>(guess_jacobian), out);
+  rom::tally_quadrature(exec, out, count, tally_.span());
+  // Points outside the body (or unconverged) carry no mass; P2G would evaluate a stress and activate
+  // grid blocks for each of them, so the used points are gathered into a set of their own, P2G's.
+  used_index_.ensure_size(exec.backend, count);
+  const Index used = select_(exec, points_.status.prefix(count), rom::kQuadratureUsed, used_index_.span());
+  used_.gather_from(exec, points_, used_index_.prefix(used));
+  return used_.view();
+}
+
+std::pair<std::int64_t, std::string> EulerianQuadrature::describe(const Exec& exec, std::int64_t slot) const {
+  // An Eulerian point is no material point (index −1): it is named by where it is.
+  const Vec3<float> x = planes_at(used_.x.to_host(exec.stream), used_.count, slot),
+                    X = planes_at(used_.X.to_host(exec.stream), used_.count, slot);
+  return {-1, fmt::format("the Eulerian quadrature point at x = ({:.4g}, {:.4g}, {:.4g}) m, reference X = ({:.4g}, "
+                          "{:.4g}, {:.4g}) m",
+                          x[0], x[1], x[2], X[0], X[1], X[2])};
+}
+
+}  // namespace romp::engine

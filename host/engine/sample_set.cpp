@@ -1,0 +1,81 @@
+// Drawing the samples and decoding their kinematics.
+#include "host/engine/sample_set.h"
+
+#include <algorithm>
+#include <numeric>
+#include <unordered_set>
+
+#include "kernels/rom/reduced_dynamics.h"
+
+namespace romp::engine {
+namespace {
+
+// k distinct members of `pool`, drawn uniformly (Floyd's algorithm: k draws, no pass over the pool).
+std::vector<std::int32_t> draw_distinct(const std::vector<std::int32_t>& pool, std::size_t k,
+                                        geometry::Random& random) {
+  const std::size_t n = pool.size();
+  if (k >= n) return pool;
+  std::unordered_set<std::size_t> chosen;
+  for (std::size_t j = n - k; j < n; ++j) {
+    const std::size_t t = std::size_t(random.below(j + 1));
+    chosen.insert(chosen.count(t) ? j : t);
+  }
+  std::vector<std::int32_t> members;
+  for (const std::size_t i : chosen) members.push_back(pool[i]);
+  return members;
+}
+
+}  // namespace
+
+SampleSet::SampleSet(const mpm::ParticleInit& reference, Index dirichlet_groups, Index wanted, int boundary_samples,
+                     std::uint64_t seed, int latent)
+    : points_total_(reference.count()),
+      wanted_(wanted),
+      boundary_samples_(boundary_samples),
+      latent_(latent),
+      group_members_(std::size_t(dirichlet_groups)),
+      random_(seed) {
+  for (Index p = 0; p < points_total_; ++p) {
+    const std::int32_t group = reference.dirichlet_group[std::size_t(p)];
+    (group == mpm::kNoDirichletGroup ? free_points_ : group_members_[std::size_t(group)]).push_back(std::int32_t(p));
+  }
+}
+
+std::vector<std::int32_t> SampleSet::choose() {
+  if (wanted_ == 0 || wanted_ >= points_total_) {
+    std::vector<std::int32_t> all(static_cast<std::size_t>(points_total_));
+    std::iota(all.begin(), all.end(), 0);
+    return all;
+  }
+  std::vector<std::int32_t> samples;
+  for (const std::vector<std::int32_t>& members : group_members_) {
+    const std::vector<std::int32_t> drawn = draw_distinct(members, std::size_t(boundary_samples_), random_);
+    samples.insert(samples.end(), drawn.begin(), drawn.end());
+  }
+  const std::vector<std::int32_t> drawn = draw_distinct(free_points_, std::size_t(wanted_), random_);
+  samples.insert(samples.end(), drawn.begin(), drawn.end());
+  std::sort(samples.begin(), samples.end());
+  return samples;
+}
+
+void SampleSet::resize(const Exec& exec, Index m) {
+  if (points_.count == m) return;
+  points_.allocate(exec.backend, m);
+  dg_dxhat_ = DeviceBuffer<float>(exec.backend, 3 * Index(latent_) * m);
+  model_x_ = DeviceBuffer<float>(exec.backend, 3 * m);
+}
+
+void SampleSet::draw(const Exec& exec, const ReferenceBody& reference) {
+  const std::vector<std::int32_t> chosen = choose();
+  resize(exec, Index(chosen.size()));
+  reference.gather(exec, index_.upload_front(exec.backend, chosen, exec.stream), points_);
+}
+
+void SampleSet::decode(const Exec& exec, const DeformationMap& map, Span<const float> xhat, Span<const float> vhat) {
+  const Index m = count();
+  map.evaluate(exec, xhat, X(),
+               {Vec3Planes<float>(points_.x.data(), m), Mat3Planes<float>(points_.F.data(), m), dg_dxhat_.span()});
+  rom::latent_to_point_velocity(exec, latent_, dg_dxhat_.span(), vhat, Vec3Planes<float>(points_.v.data(), m));
+}
+
+}  // namespace romp::engine

@@ -1,0 +1,56 @@
+// SampleSet: the sample material points of a reduced substep (hyper-reduction, ROM paper Sec. 3.2.2),
+// drawn anew every substep, and their kinematics decoded from the map: what G2P updates and the
+// projections read.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "host/engine/deformation_map.h"
+#include "host/engine/quadrature_points.h"
+#include "host/geometry/random.h"
+#include "kernels/core/device_buffer.h"
+#include "kernels/core/exec.h"
+
+namespace romp::engine {
+
+class SampleSet {
+ public:
+  // `wanted` free points a substep (0 or ≥ the point count: every point), plus `boundary_samples` from
+  // every Dirichlet group (the paper: "at least 5 material points from each kinematic boundary").
+  SampleSet(const mpm::ParticleInit& reference, Index dirichlet_groups, Index wanted, int boundary_samples,
+            std::uint64_t seed, int latent);
+
+  // Draws this substep's samples and gathers their reference state (one upload: their indices).
+  void draw(const Exec& exec, const ReferenceBody& reference);
+  // x = g(X; x̂), F = ∇_X g, ∂g/∂x̂ and v = (∂g/∂x̂) v̂ at the samples.
+  void decode(const Exec& exec, const DeformationMap& map, Span<const float> xhat, Span<const float> vhat);
+
+  Index count() const { return points_.count; }
+  QuadraturePoints& points() { return points_; }
+  const QuadraturePoints& points() const { return points_; }
+  Vec3Planes<const float> X() const { return Vec3Planes<const float>(points_.X.data(), count()); }
+  Vec3Planes<const float> x() const { return Vec3Planes<const float>(points_.x.data(), count()); }
+  Mat3Planes<const float> F() const { return Mat3Planes<const float>(points_.F.data(), count()); }
+  // The material point of each sample.
+  Span<const std::int32_t> index() const { return index_.prefix(count()); }
+  // ∂g/∂x̂ at the samples (3 r planes), and scratch for g there (3 planes; the position projection's).
+  Span<float> dg_dxhat() { return dg_dxhat_.span(); }
+  Span<float> model_x() { return model_x_.span(); }
+
+ private:
+  // Sorted material point indices: gathers read memory forwards, and a projection's sums have one order.
+  std::vector<std::int32_t> choose();
+  void resize(const Exec& exec, Index m);
+
+  Index points_total_, wanted_;
+  int boundary_samples_, latent_;
+  std::vector<std::int32_t> free_points_;                 // not in a Dirichlet group
+  std::vector<std::vector<std::int32_t>> group_members_;  // per Dirichlet group
+  geometry::Random random_;
+  QuadraturePoints points_;
+  DeviceBuffer<std::int32_t> index_;
+  DeviceBuffer<float> dg_dxhat_, model_x_;
+};
+
+}  // namespace romp::engine
