@@ -162,9 +162,9 @@ gravity = [0, 0, 0]
   EXPECT_EQ(a.gravitational_energy, 0.0);
 }
 
-TEST(FrameOutputs, ARunWritesTheSelectedFieldsAndTheTotalsOfEveryFrame) {
-  test::ScratchFolder folder;
-  const scene::Scene scene = scene::parse_scene(R"(
+// A jelly cube at dx = 0.1 for two frames, with `extra` (its output fields, a Dirichlet group) added.
+std::string jelly_cube(const std::string& extra) {
+  return R"(
 [domain]
 size = [1.0, 1.0, 1.0]
 dx = 0.1
@@ -175,11 +175,17 @@ frame_rate = 100
 preset = "jelly"
 [[objects]]
 shape = { type = "box", center = [0.5, 0.5, 0.5], size = [0.3, 0.3, 0.3] }
+)" + extra;
+}
+
+TEST(FrameOutputs, ARunWritesTheSelectedFieldsAndTheTotalsOfEveryFrame) {
+  test::ScratchFolder folder;
+  const scene::Scene scene = scene::parse_scene(jelly_cube(R"(
 [[dirichlet]]
 region = { type = "box", center = [0.5, 0.4, 0.5], size = [0.4, 0.1, 0.4] }
 [output]
 fields = ["x", "J", "von_mises", "stress", "energy_density"]
-)",
+)"),
                                                 "fields.toml");
   RunOptions options;
   options.output = folder.file("fields.h5");
@@ -211,23 +217,8 @@ fields = ["x", "J", "von_mises", "stress", "energy_density"]
 }
 
 TEST(FrameOutputs, UnknownFieldNamesAreRefusedListingTheKnownOnes) {
-  const std::string message = test::error_message([] {
-    scene::parse_scene(R"(
-[domain]
-size = [1.0, 1.0, 1.0]
-dx = 0.1
-[time]
-end = 0.02
-frame_rate = 100
-[materials.jelly]
-preset = "jelly"
-[[objects]]
-shape = { type = "box", center = [0.5, 0.5, 0.5], size = [0.3, 0.3, 0.3] }
-[output]
-fields = ["x", "pressure"]
-)",
-                       "bad.toml");
-  });
+  const std::string message = test::error_message(
+      [] { scene::parse_scene(jelly_cube("[output]\nfields = [\"x\", \"pressure\"]\n"), "bad.toml"); });
   EXPECT_NE(message.find("von_mises"), std::string::npos) << message;
 }
 
