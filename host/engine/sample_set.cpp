@@ -33,12 +33,20 @@ SampleSet::SampleSet(const mpm::ParticleInit& reference, Index dirichlet_groups,
       wanted_(wanted),
       boundary_samples_(boundary_samples),
       latent_(latent),
+      every_point_(wanted == 0 || wanted >= reference.count()),
       group_members_(std::size_t(dirichlet_groups)),
       random_(seed) {
   for (Index p = 0; p < points_total_; ++p) {
     const std::int32_t group = reference.dirichlet_group[std::size_t(p)];
     (group == mpm::kNoDirichletGroup ? free_points_ : group_members_[std::size_t(group)]).push_back(std::int32_t(p));
   }
+  // Every substep draws as many: wanted free points, and from each group its share or all it has.
+  Index per_substep = every_point_ ? points_total_ : std::min<Index>(wanted_, Index(free_points_.size()));
+  if (!every_point_)
+    for (const std::vector<std::int32_t>& members : group_members_)
+      per_substep += std::min<Index>(boundary_samples_, Index(members.size()));
+  // Up to 256 substeps in an upload of at most 2^20 indices (4 MiB); every point is one row for good.
+  rows_ahead_ = every_point_ ? 1 : std::clamp<Index>((Index(1) << 20) / std::max<Index>(per_substep, 1), 1, 256);
 }
 
 std::vector<std::int32_t> SampleSet::choose() {
@@ -66,9 +74,23 @@ void SampleSet::resize(const Exec& exec, Index m) {
 }
 
 void SampleSet::draw(const Exec& exec, const ReferenceBody& reference) {
-  const std::vector<std::int32_t> chosen = choose();
-  resize(exec, Index(chosen.size()));
-  reference.gather(exec, index_.upload_front(exec.backend, chosen, exec.stream), points_);
+  if (next_row_ == rows_drawn_ && !(every_point_ && rows_drawn_ > 0)) {
+    // The next rows, each as one substep's choose() would give it, so the sequence is the same.
+    std::vector<std::int32_t> rows;
+    for (Index row = 0; row < rows_ahead_; ++row) {
+      const std::vector<std::int32_t> chosen = choose();
+      rows.insert(rows.end(), chosen.begin(), chosen.end());
+    }
+    index_.upload_front(exec.backend, rows, exec.stream);
+    rows_drawn_ = rows_ahead_;
+    next_row_ = 0;
+    per_row_ = Index(rows.size()) / rows_ahead_;
+  }
+  const Index m = per_row_;
+  resize(exec, m);
+  current_ = index_.span().subspan(next_row_ * m, m);
+  if (!every_point_) ++next_row_;
+  reference.gather(exec, current_, points_);
 }
 
 void SampleSet::decode(const Exec& exec, const DeformationMap& map, Span<const float> xhat, Span<const float> vhat) {

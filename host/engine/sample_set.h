@@ -21,8 +21,12 @@ class SampleSet {
   SampleSet(const mpm::ParticleInit& reference, Index dirichlet_groups, Index wanted, int boundary_samples,
             std::uint64_t seed, int latent);
 
-  // Draws this substep's samples and gathers their reference state (one upload: their indices).
+  // Takes this substep's samples and gathers their reference state. The samples of many substeps are
+  // drawn at once, in the same order as one substep at a time, and uploaded together: a substep
+  // uploads nothing but every rows_ahead()-th (and, with every point sampled, only the first).
   void draw(const Exec& exec, const ReferenceBody& reference);
+  // Substeps whose samples one upload holds.
+  Index rows_ahead() const { return rows_ahead_; }
   // x = g(X; x̂), F = ∇_X g, ∂g/∂x̂ and v = (∂g/∂x̂) v̂ at the samples.
   void decode(const Exec& exec, const DeformationMap& map, Span<const float> xhat, Span<const float> vhat);
 
@@ -33,7 +37,7 @@ class SampleSet {
   Vec3Planes<const float> x() const { return Vec3Planes<const float>(points_.x.data(), count()); }
   Mat3Planes<const float> F() const { return Mat3Planes<const float>(points_.F.data(), count()); }
   // The material point of each sample.
-  Span<const std::int32_t> index() const { return index_.prefix(count()); }
+  Span<const std::int32_t> index() const { return current_; }
   // ∂g/∂x̂ at the samples (3 r planes), and scratch for g there (3 planes; the position projection's).
   Span<float> dg_dxhat() { return dg_dxhat_.span(); }
   Span<float> model_x() { return model_x_.span(); }
@@ -45,11 +49,14 @@ class SampleSet {
 
   Index points_total_, wanted_;
   int boundary_samples_, latent_;
+  bool every_point_;
+  Index rows_ahead_ = 1, next_row_ = 0, rows_drawn_ = 0, per_row_ = 0;
   std::vector<std::int32_t> free_points_;                 // not in a Dirichlet group
   std::vector<std::vector<std::int32_t>> group_members_;  // per Dirichlet group
   geometry::Random random_;
   QuadraturePoints points_;
-  DeviceBuffer<std::int32_t> index_;
+  DeviceBuffer<std::int32_t> index_;  // rows_drawn_ substeps' samples, a row each
+  Span<const std::int32_t> current_;  // this substep's row
   DeviceBuffer<float> dg_dxhat_, model_x_;
 };
 

@@ -38,6 +38,9 @@ TEST(SampleSet, DrawsDistinctSortedSamplesWithEveryBoundarysShare) {
   ASSERT_EQ(init.count(), 64);
   const ReferenceBody reference(test::exec().backend, init);
   SampleSet samples(init, /*dirichlet_groups=*/1, /*wanted=*/10, /*boundary_samples=*/5, /*seed=*/3, /*latent=*/3);
+  // The 20 substeps' samples come from one upload, and each substep takes a row of its own.
+  EXPECT_GE(samples.rows_ahead(), 20);
+  std::set<std::vector<std::int32_t>> rows;
   for (int draw = 0; draw < 20; ++draw) {
     samples.draw(test::exec(), reference);
     ASSERT_EQ(samples.count(), 15);
@@ -45,10 +48,12 @@ TEST(SampleSet, DrawsDistinctSortedSamplesWithEveryBoundarysShare) {
     EXPECT_TRUE(std::is_sorted(index.begin(), index.end()));
     EXPECT_EQ(std::set<std::int32_t>(index.begin(), index.end()).size(), index.size());
     EXPECT_EQ(std::count_if(index.begin(), index.end(), [](std::int32_t p) { return p < 16; }), 5);
+    rows.insert(index);
     // The reference state gathered is the drawn points'.
     const std::vector<float> mass = host(test::exec(), samples.points().mass, 15);
     for (std::size_t i = 0; i < index.size(); ++i) EXPECT_EQ(mass[i], init.mass[std::size_t(index[i])]);
   }
+  EXPECT_GE(rows.size(), 18u);
   // Every point once asked for none or all.
   SampleSet all(init, 1, 0, 5, 3, 3);
   all.draw(test::exec(), reference);
