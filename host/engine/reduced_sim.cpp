@@ -110,8 +110,7 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
                map_.latent()),
       latent_(exec.backend, xhat, options.projection == RomProjection::PositionVelocity,
               {options.gauss_newton_iterations, options.gauss_newton_tolerance}),
-      first_outside_(exec.backend, 1),
-      speed_slot_(exec.backend, 1),
+      first_outside_(exec.backend, 2),
       xhat_(std::move(xhat)),
       stage_timeline_(exec) {
   if (options_.quadrature == RomQuadrature::Lagrangian) {
@@ -161,9 +160,7 @@ void ReducedSim::substep(float dt) {
     samples_.decode(exec_, map_, latent_.xhat(), latent_.vhat());
     quadrature = quadrature_->build(exec_, map_, samples_, latent_.xhat(), latent_.vhat());
   });
-  check_inside_domain(samples_.points().x, m, samples_.index());
-  const ReducedQuadrature::MaterialPositions positions = quadrature_->material_positions();
-  if (positions.x) check_inside_domain(*positions.x, positions.count, positions.index);
+  check_inside_domain(samples_.points().x, m, samples_.index(), quadrature_->material_positions());
   // Alg. 5: P2G from the quadrature points, the grid update, G2P at the samples. The grid is built from
   // the samples too: an Eulerian sample is not a quadrature point (ROM paper, Fig. 6), and near the body's
   // surface its stencil can reach a block no quadrature point touches. G2P must find that block active
@@ -175,7 +172,9 @@ void ReducedSim::substep(float dt) {
   timed([&] { mpm::update_grid(exec_, grid, step); });
   const mpm::ParticleView samples = samples_.points().view();
   timed([&] { mpm::grid_to_particle(exec_, samples, grid, step); });
-  inputs_.check_stages("reduced simulation: ", steps_, time_, [this, m](mpm::Stage stage, std::int64_t slot) {
+  // The samples' largest speed (the next step's CFL) comes back with the failure slots.
+  const float sample_speed = inputs_.check_stages_and_speed("reduced simulation: ", steps_, time_, samples,
+                                                            [this](mpm::Stage stage, std::int64_t slot) {
     // G2P runs over the samples and P2G over the quadrature points, reported as their material points.
     if (stage != mpm::Stage::G2P) return quadrature_->describe(exec_, slot);
     const std::int64_t point = download(exec_.backend, samples_.index().subspan(slot, 1), exec_.stream)[0];
@@ -192,7 +191,7 @@ void ReducedSim::substep(float dt) {
     vhat_.assign(latent.begin() + r, latent.begin() + 2 * r);
   });
   check_latent("the projection");
-  max_sample_speed_ = mpm::max_particle_speed(exec_, samples, speed_slot_.span());
+  max_sample_speed_ = sample_speed;
   time_ += dt;
   ++steps_;
 }
@@ -207,7 +206,8 @@ void ReducedSim::check_latent(const char* stage) const {
                          steps_, mpm::Stage::G2P, -1);
 }
 
-void ReducedSim::check_inside_domain(const DeviceBuffer<float>& x, Index count, Span<const std::int32_t> index) {
+void ReducedSim::check_inside_domain(const DeviceBuffer<float>& sample_x, Index samples, Span<const std::int32_t> index,
+                                     const ReducedQuadrature::MaterialPositions& quadrature) {
   // The band the full-order step keeps particles in (mpm::kept_inside_domain).
   const mpm::Domain domain = config_.domain();
   Vec3<float> low, high;
@@ -215,20 +215,32 @@ void ReducedSim::check_inside_domain(const DeviceBuffer<float>& x, Index count, 
     low[a] = domain.low_bound(config_.dx);
     high[a] = domain.high_bound(a, config_.dx);
   }
+  // Both sets searched on the device, their results read back together.
   fill(exec_, first_outside_.span(), rom::kNoPointOutside);
-  rom::find_point_outside(exec_, Vec3Planes<const float>(x.data(), count), low, high, first_outside_.span());
-  const std::int64_t slot = first_outside_.to_host(exec_.stream)[0];
-  if (slot == rom::kNoPointOutside) return;
-  const std::int64_t point = index.empty() ? slot : download(exec_.backend, index.subspan(slot, 1), exec_.stream)[0];
-  const std::vector<float> positions = x.to_host(exec_.stream);
-  throw NonFiniteError(
-      fmt::format(
-          "reduced simulation: material point {} decodes to ({:.4g}, {:.4g}, {:.4g}) m at step {} (t = {:.6g} "
-          "s), outside the domain's interior [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] m: x̂ = [{}] "
-          "has left the states the map describes (the reduced dynamics diverged)",
-          point, positions[slot], positions[count + slot], positions[2 * count + slot], steps_, time_, low[0], high[0],
-          low[1], high[1], low[2], high[2], fmt::join(xhat_, ", ")),
-      steps_, mpm::Stage::P2G, point);
+  rom::find_point_outside(exec_, Vec3Planes<const float>(sample_x.data(), samples), low, high,
+                          first_outside_.span().subspan(0, 1));
+  if (quadrature.x)
+    rom::find_point_outside(exec_, Vec3Planes<const float>(quadrature.x->data(), quadrature.count), low, high,
+                            first_outside_.span().subspan(1, 1));
+  const std::vector<std::int64_t> slots = first_outside_.to_host(exec_.stream);
+  for (int set = 0; set < 2; ++set) {
+    const std::int64_t slot = slots[std::size_t(set)];
+    if (slot == rom::kNoPointOutside) continue;
+    const DeviceBuffer<float>& x = set == 0 ? sample_x : *quadrature.x;
+    const Index count = set == 0 ? samples : quadrature.count;
+    const Span<const std::int32_t> points = set == 0 ? index : quadrature.index;
+    const std::int64_t point =
+        points.empty() ? slot : download(exec_.backend, points.subspan(slot, 1), exec_.stream)[0];
+    const std::vector<float> positions = x.to_host(exec_.stream);
+    throw NonFiniteError(
+        fmt::format(
+            "reduced simulation: material point {} decodes to ({:.4g}, {:.4g}, {:.4g}) m at step {} (t = {:.6g} "
+            "s), outside the domain's interior [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] m: x̂ = [{}] "
+            "has left the states the map describes (the reduced dynamics diverged)",
+            point, positions[slot], positions[count + slot], positions[2 * count + slot], steps_, time_, low[0],
+            high[0], low[1], high[1], low[2], high[2], fmt::join(xhat_, ", ")),
+        steps_, mpm::Stage::P2G, point);
+  }
 }
 
 std::vector<std::pair<std::string, double>> ReducedSim::stage_seconds() const {

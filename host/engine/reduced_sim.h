@@ -139,10 +139,11 @@ class ReducedSim {
  private:
   // Throws NonFiniteError when x̂ or v̂ is not finite after `stage`.
   void check_latent(const char* stage) const;
-  // Throws NonFiniteError naming the material point when one of the `count` positions in `x` (3 planes: the
-  // samples' or the Lagrangian quadrature's, `index` their material points, or empty for every point)
-  // lies outside the grid's interior: x̂ has gone where the map no longer describes the body.
-  void check_inside_domain(const DeviceBuffer<float>& x, Index count, Span<const std::int32_t> index);
+  // Throws NonFiniteError naming the material point when one of the samples' positions (3 planes of
+  // `samples`, `index` their material points) or of the quadrature's material points lies outside the
+  // grid's interior: x̂ has gone where the map no longer describes the body. One download for both.
+  void check_inside_domain(const DeviceBuffer<float>& sample_x, Index samples, Span<const std::int32_t> index,
+                           const ReducedQuadrature::MaterialPositions& quadrature);
   // The error of a projection whose normal equations have no solution.
   Error singular_projection() const;
   rom::QuadratureTally quadrature_tally() const;
@@ -160,8 +161,7 @@ class ReducedSim {
   std::optional<EulerianQuadrature> eulerian_;
   ReducedQuadrature* quadrature_ = nullptr;
   LatentProjection latent_;
-  DeviceBuffer<std::int64_t> first_outside_;  // 1 slot for rom::find_point_outside
-  DeviceBuffer<float> speed_slot_;            // mpm::max_particle_speed's result
+  DeviceBuffer<std::int64_t> first_outside_;  // rom::find_point_outside's: the samples', the quadrature's
 
   std::vector<float> xhat_, vhat_;  // the device's [x̂ | v̂] after the last substep
   float max_sample_speed_ = 0.0f;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "kernels/core/fill.h"
 #include "kernels/math/rotation.h"
@@ -43,7 +44,7 @@ StepInputs::StepInputs(const Exec& exec, const FullOrderConfig& config) : exec_(
   dirichlet_ = DeviceBuffer<mpm::RigidMotion>(exec.backend, Index(config.dirichlet.size()));
   loads_ = DeviceBuffer<mpm::RegionLoad>(exec.backend, Index(config.loads.size()));
   tractions_ = DeviceBuffer<Vec3<float>>(exec.backend, Index(config.tractions.size()));
-  first_failure_ = DeviceBuffer<std::int64_t>(exec.backend, mpm::kStageCount);
+  first_failure_ = DeviceBuffer<std::int64_t>(exec.backend, mpm::kStageCount + 1);
 }
 
 void StepInputs::upload_materials(double time) {
@@ -83,7 +84,7 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   std::vector<Vec3<float>> tractions;
   for (const TractionSpec& spec : config.tractions)
     tractions.push_back(time >= spec.start && time < spec.end ? spec.traction : Vec3<float>::zero());
-  fill(exec_, first_failure_.span(), mpm::kNoFailure);
+  fill(exec_, first_failure_.span().subspan(0, mpm::kStageCount), mpm::kNoFailure);
 
   mpm::StepParams step;
   step.dt = dt;
@@ -98,7 +99,7 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   step.dirichlet = dirichlet_.upload_front(exec_.backend, motions, exec_.stream);
   step.loads = loads_.upload_front(exec_.backend, loads, exec_.stream);
   step.tractions = tractions_.upload_front(exec_.backend, tractions, exec_.stream);
-  step.first_failure = first_failure_.span();
+  step.first_failure = first_failure_.span().subspan(0, mpm::kStageCount);
   return step;
 }
 
@@ -114,7 +115,23 @@ const char* stage_name(mpm::Stage stage) {
 
 void StepInputs::check_stages(const std::string& who, std::int64_t step, double time,
                               const FailureDescriber& describe) const {
-  const std::vector<std::int64_t> failures = first_failure_.to_host(exec_.stream);
+  throw_first_failure(download(exec_.backend, first_failure_.span().subspan(0, mpm::kStageCount), exec_.stream), who,
+                      step, time, describe);
+}
+
+float StepInputs::check_stages_and_speed(const std::string& who, std::int64_t step, double time,
+                                         const mpm::ParticleView& particles, const FailureDescriber& describe) {
+  const Span<float> speed_slot(reinterpret_cast<float*>(first_failure_.data() + mpm::kStageCount), 1);
+  mpm::reduce_max_particle_speed(exec_, particles, speed_slot);
+  const std::vector<std::int64_t> slots = first_failure_.to_host(exec_.stream);
+  throw_first_failure(slots, who, step, time, describe);
+  float speed;
+  std::memcpy(&speed, &slots[mpm::kStageCount], sizeof speed);
+  return speed;
+}
+
+void StepInputs::throw_first_failure(const std::vector<std::int64_t>& failures, const std::string& who,
+                                     std::int64_t step, double time, const FailureDescriber& describe) const {
   for (int s = 0; s < mpm::kStageCount; ++s) {
     if (failures[s] == mpm::kNoFailure) continue;
     const auto stage = mpm::Stage(s);

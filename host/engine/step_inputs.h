@@ -53,6 +53,10 @@ class StepInputs {
   // "<who>non-finite value at step S (t = T s), stage X: <what>". Grid-update indices are reported as
   // grid nodes; every other stage's index goes through `describe`.
   void check_stages(const std::string& who, std::int64_t step, double time, const FailureDescriber& describe) const;
+  // check_stages with the largest speed of `particles` (for the next CFL step) reduced on the device and
+  // read back with the failure slots: one download for both. Returns the speed.
+  float check_stages_and_speed(const std::string& who, std::int64_t step, double time,
+                               const mpm::ParticleView& particles, const FailureDescriber& describe);
 
   bool plastic() const { return plastic_; }
   // The largest dilatational wave speed sqrt((λ + 2μ) / ρ) over the materials (m/s), for the CFL rule.
@@ -72,7 +76,11 @@ class StepInputs {
   DeviceBuffer<mpm::RigidMotion> dirichlet_;
   DeviceBuffer<mpm::RegionLoad> loads_;
   DeviceBuffer<Vec3<float>> tractions_;
+  // kStageCount failure slots, then one slot whose first 4 bytes hold a float speed.
   DeviceBuffer<std::int64_t> first_failure_;
+
+  void throw_first_failure(const std::vector<std::int64_t>& failures, const std::string& who, std::int64_t step,
+                           double time, const FailureDescriber& describe) const;
 };
 
 // Substeps until `time` reaches t: `substep(dt)` advances `time` by dt, `stable_dt()` says how far it

@@ -147,5 +147,7 @@ ROMP_HD inline void store_moved_particle(const ParticleView& particles, const St
 // The largest particle speed (for the CFL condition), reduced in `slot` (one element of the backend's
 // memory, kept by the caller so that a substep allocates nothing); synchronises with the host.
 float max_particle_speed(const Exec& exec, const ParticleView& particles, Span<float> slot);
+// The same reduction left in `slot` on the device, for a caller that reads it back with other results.
+void reduce_max_particle_speed(const Exec& exec, const ParticleView& particles, Span<float> slot);
 
 }  // namespace romp::mpm
