@@ -27,11 +27,23 @@ nlohmann::json read_manifest(const std::string& label, const fs::path& path) {
   } catch (const nlohmann::json::exception& error) {
     throw io::UnusableFileError(label + ": " + path.filename().string() + ": not valid JSON: " + error.what());
   }
-  if (manifest.value("format", std::string()) != kSweepFormat)
+  // Checked by kind before any value is read: value() and get() throw the JSON library's type_error for a
+  // value of another kind (train-rom then exited 4, as if the machine had failed), and get<std::int64_t>()
+  // of a float beyond int64's range is undefined behaviour.
+  if (!manifest.is_object())
+    throw io::UnusableFileError(label + ": manifest.json: a JSON " + manifest.type_name() + ", not an object");
+  const auto format = manifest.find("format");
+  if (format == manifest.end() || !format->is_string() || format->get<std::string>() != kSweepFormat)
     throw io::UnusableFileError(label + ": manifest.json: format is not \"" + kSweepFormat + "\"");
-  const std::int64_t version = manifest.value("format_version", std::int64_t(0));
-  if (version < 1 || version > kSweepFormatVersion) {
-    throw io::UnusableFileError(label + ": manifest.json: format_version " + std::to_string(version) +
+  const auto version = manifest.find("format_version");
+  // A number is shown, anything else named by its kind: printing a hostile value (an array nested 200,000
+  // deep) recurses as deep as it is nested.
+  const std::string shown = version == manifest.end() ? "missing"
+                            : version->is_number()    ? version->dump()
+                                                      : std::string("(a JSON ") + version->type_name() + ")";
+  if (version == manifest.end() || !version->is_number_integer() || version->get<std::int64_t>() < 1 ||
+      version->get<std::int64_t>() > kSweepFormatVersion) {
+    throw io::UnusableFileError(label + ": manifest.json: format_version " + shown +
                                 " is not one this romp reads (1 .. " + std::to_string(kSweepFormatVersion) + ")");
   }
   return manifest;
@@ -39,6 +51,8 @@ nlohmann::json read_manifest(const std::string& label, const fs::path& path) {
 
 SweepMember parse_member(const nlohmann::json& entry, const std::vector<std::string>& names) {
   SweepMember member;
+  // An integer: a float there (1e300) would convert with undefined behaviour.
+  if (!entry.at("index").is_number_integer()) throw io::UnusableFileError("index is not an integer");
   member.index = entry.at("index").get<std::int64_t>();
   for (const std::string& name : names) member.values.push_back(entry.at("values").at(name).get<double>());
   const std::string split = entry.at("split").get<std::string>();
