@@ -12,7 +12,7 @@
 #include <sstream>
 
 #include "host/engine/sim_config.h"
-#include "host/scene/material_library.h"
+#include "host/scene/named_materials.h"
 #include "host/scene/toml_reader.h"
 #include "host/scene/toml_writer.h"
 #include "kernels/core/error.h"

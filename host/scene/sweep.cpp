@@ -18,6 +18,15 @@ void shuffle(std::vector<T>& items, geometry::Random& random) {
   for (std::size_t i = items.size(); i > 1; --i) std::swap(items[i - 1], items[random.below(i)]);
 }
 
+// The members hold a value of every swept parameter: 1,000,000 random members of 40 parameters (a scene of
+// 2 KB) took 4 GB and half a minute to list. Checked before they are made.
+void check_value_count(std::int64_t members, std::size_t dimensions) {
+  constexpr std::int64_t kMostValues = 1000000;
+  if (dimensions > 0 && members > kMostValues / std::int64_t(dimensions))
+    throw SceneError(fmt::format("[sweep]: {} members of {} parameters would hold {} values; at most {} are allowed",
+                                 members, dimensions, members * std::int64_t(dimensions), kMostValues));
+}
+
 }  // namespace
 
 SweepSpec read_sweep(TableReader& table, const ParameterValues& declared) {
@@ -35,6 +44,10 @@ SweepSpec read_sweep(TableReader& table, const ParameterValues& declared) {
     table.fail("train_every", "cannot be combined with test_fraction (both choose the test members); give one");
 
   TableReader parameters = table.table("parameters");
+  // The grid's values on all axes: `count` makes 100,000 of them from a few bytes, so an 8 MB scene of such
+  // axes would ask for 120 GB before sweep_members bounds the members they make.
+  constexpr std::size_t kMostGridValues = 1000000;
+  std::size_t grid_values = 0;
   for (const std::string& name : parameters.keys()) {
     if (!declared.count(name)) {
       std::string known;
@@ -59,6 +72,9 @@ SweepSpec read_sweep(TableReader& table, const ParameterValues& declared) {
                                            : axis.low + (axis.high - axis.low) * double(i) / double(count - 1));
       }
     }
+    grid_values += axis.values.size();
+    if (grid_values > kMostGridValues)
+      axis_table.fail("", fmt::format("the grid's axes take more than {} values in all", kMostGridValues));
     axis_table.finish();
     sweep.axes.push_back(std::move(axis));
   }
@@ -82,6 +98,7 @@ std::vector<SweepMember> sweep_members(const SweepSpec& sweep) {
                                      sweep.axes.size(), kMostMembers, kMostMembers));
       count *= values;
     }
+    check_value_count(count, dimensions);
     for (std::int64_t m = 0; m < count; ++m) {
       SweepMember member;
       member.index = m;
@@ -96,6 +113,7 @@ std::vector<SweepMember> sweep_members(const SweepSpec& sweep) {
     }
   } else {
     const std::int64_t count = sweep.samples;
+    check_value_count(count, dimensions);
     // Latin hypercube: each axis is cut into `count` strata, one sample per stratum, strata paired
     // across axes by an independent random permutation per axis.
     std::vector<std::vector<std::int64_t>> strata(dimensions);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 #include "kernels/core/error.h"
 
@@ -307,7 +308,132 @@ void TableReader::finish() const {
   }
 }
 
+namespace {
+
+bool is_ascii(char c) { return static_cast<unsigned char>(c) < 0x80; }
+
+// The byte offset of the first non-ASCII character toml++ could test for Unicode whitespace, or npos. That
+// test in toml++ 3.3 (Debian 12's libtomlplusplus) reaches __builtin_unreachable for most code points below
+// U+049A (é, ×, μ, ν) and in U+2CEE-U+30E7 and U+FB46-U+FEFE: undefined behaviour (toml++ issues #190, #295).
+// It asks outside strings and comments, where TOML allows no non-ASCII character, also while it looks ahead
+// over a bare value (quotes there start no string), and in a multi-line basic string after a backslash, where
+// only a line-ending backslash may precede one. So this follows where toml++ starts a string: where a key
+// or a value begins.
+std::size_t whitespace_test_toml_cannot_take(const std::string& text) {
+  enum class In { Toml, Comment, Basic, Literal, MultiLineBasic, MultiLineLiteral } in = In::Toml;
+  // What comes next outside strings: a key, a value, the rest of a key (a '.' asks for another part), a bare
+  // value (a number, date or boolean, which toml++ scans to its end, quotes included), or what follows a value.
+  enum class Expect { Key, Value, RestOfKey, BareValue, RestOfValue } expect = Expect::Key;
+  Expect after_string = Expect::RestOfKey;
+  std::vector<char> open;  // the arrays '[' and inline tables '{' around the place
+  const std::size_t size = text.size();
+  // The end of a run of quotes at `at` of at most 5 (toml++'s lookahead): 3 or more close a multi-line string.
+  const auto quote_run = [&](std::size_t at, char quote) {
+    std::size_t end = at;
+    while (end < size && end - at < 5 && text[end] == quote) ++end;
+    return end;
+  };
+  // A UTF-8 byte order mark is read before the document.
+  for (std::size_t i = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0; i < size; ++i) {
+    const char c = text[i];
+    switch (in) {
+      case In::Toml: {
+        if (!is_ascii(c)) return i;
+        const bool blank = c == ' ' || c == '\t' || c == '\r' || c == '\n';
+        if (expect == Expect::BareValue) {
+          if (!blank && c != ']' && c != '}' && c != ',' && c != '#') break;
+          expect = Expect::RestOfValue;
+        }
+        if (c == '#') {
+          in = In::Comment;
+        } else if ((c == '"' || c == '\'') && (expect == Expect::Key || expect == Expect::Value)) {
+          const bool multi_line = text.compare(i, 3, std::string(3, c)) == 0;
+          in = c == '"' ? (multi_line ? In::MultiLineBasic : In::Basic)
+                        : (multi_line ? In::MultiLineLiteral : In::Literal);
+          if (multi_line) i += 2;
+          after_string = expect == Expect::Key ? Expect::RestOfKey : Expect::RestOfValue;
+        } else if (c == '\n') {
+          if (open.empty()) expect = Expect::Key;
+        } else if (c == '=') {
+          expect = Expect::Value;
+        } else if ((c == '[' || c == '{') && expect == Expect::Value) {
+          open.push_back(c);
+          expect = c == '[' ? Expect::Value : Expect::Key;
+        } else if (c == '[') {
+          expect = Expect::Key;  // a table header (toml++ stops at one anywhere else)
+        } else if (c == ']' || c == '}') {
+          if (!open.empty()) open.pop_back();
+          expect = Expect::RestOfValue;
+        } else if (c == ',') {
+          expect = !open.empty() && open.back() == '{' ? Expect::Key : Expect::Value;
+        } else if (c == '.' && expect == Expect::RestOfKey) {
+          expect = Expect::Key;
+        } else if (!blank) {
+          expect = expect == Expect::Key || expect == Expect::RestOfKey ? Expect::RestOfKey : Expect::BareValue;
+        }
+        break;
+      }
+      case In::Comment:
+        if (c == '\n') {
+          in = In::Toml;
+          if (open.empty()) expect = Expect::Key;
+        }
+        break;
+      case In::Basic:
+        if (c == '\\') {
+          ++i;
+        } else if (c == '"' || c == '\n') {
+          in = In::Toml;
+          expect = after_string;
+          if (c == '\n' && open.empty()) expect = Expect::Key;
+        }
+        break;
+      case In::Literal:
+        if (c == '\'' || c == '\n') {
+          in = In::Toml;
+          expect = after_string;
+          if (c == '\n' && open.empty()) expect = Expect::Key;
+        }
+        break;
+      case In::MultiLineBasic:
+      case In::MultiLineLiteral:
+        if (c == '\\' && in == In::MultiLineBasic) {
+          // The escaped character, or past a line-ending backslash's whitespace the first one kept.
+          std::size_t next = i + 1;
+          while (next < size && (text[next] == ' ' || text[next] == '\t' || text[next] == '\r' || text[next] == '\n'))
+            ++next;
+          if (next < size && !is_ascii(text[next])) return next;
+          i = next == i + 1 ? next : next - 1;
+        } else if (c == (in == In::MultiLineBasic ? '"' : '\'')) {
+          const std::size_t end = quote_run(i, c);
+          if (end - i >= 3) {
+            in = In::Toml;
+            expect = after_string;
+          }
+          i = end - 1;
+        }
+        break;
+    }
+  }
+  return std::string::npos;
+}
+
+}  // namespace
+
 toml::table parse_toml(const std::string& text, const std::string& file) {
+  const std::size_t unsafe = whitespace_test_toml_cannot_take(text);
+  if (unsafe != std::string::npos) {
+    const std::size_t line_start = text.rfind('\n', unsafe) + 1;  // 0 on the first line (npos + 1)
+    const auto line = 1 + std::count(text.begin(), text.begin() + std::ptrdiff_t(line_start), '\n');
+    // Columns count characters, as toml++'s do: every byte but UTF-8 continuation bytes.
+    const auto column =
+        1 + std::count_if(text.begin() + std::ptrdiff_t(line_start), text.begin() + std::ptrdiff_t(unsafe),
+                          [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; });
+    throw SceneError(
+        fmt::format("{}:{}:{}: TOML syntax error: a non-ASCII character outside a string or comment, or "
+                    "after a backslash in a multi-line string (toml++ cannot read it there)",
+                    file, line, column));
+  }
   try {
     return toml::parse(text, file);
   } catch (const toml::parse_error& error) {

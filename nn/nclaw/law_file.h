@@ -13,18 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "nn/nclaw/law_file_format.h"
+#include "nn/nclaw/law_file_content.h"
 #include "nn/nclaw/neural_laws.h"
 
 namespace romp::nn::nclaw {
-
-// How the laws were learned.
-struct LawTrainingRecord {
-  std::string trajectory;             // the ground-truth file
-  int64_t steps = 0;                  // substeps per training rollout
-  std::vector<double> loss;           // per epoch
-  double reconstruction_error = 0.0;  // position_error of the final laws on the trajectory (m²)
-};
 
 struct LawFile {
   NeuralLaws laws;  // float32 on the CPU
@@ -34,8 +26,8 @@ struct LawFile {
 // Writes `path` through a temporary name, so an existing file is replaced only by a complete one.
 void write_law_file(const std::string& path, const NeuralLaws& laws, const LawTrainingRecord& training);
 
-// Throws romp::Error naming the file, the object and the allowed values when it is not a complete
-// law file of this version (wrong format, architecture, shapes, or non-finite weights).
+// The file's networks as read_law_file_content reads and checks them (its errors: io::UnusableFileError
+// naming the file, the object and the allowed values).
 LawFile read_law_file(const std::string& path);
 
 }  // namespace romp::nn::nclaw

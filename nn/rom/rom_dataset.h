@@ -9,18 +9,9 @@
 #include <vector>
 
 #include "nn/rom/deformation_map.h"
+#include "nn/rom/sweep_manifest.h"
 
 namespace romp::nn::rom {
-
-// One member of the sweep (a parameter instance μ), as DIR/manifest.json lists it.
-struct SweepMember {
-  std::int64_t index = 0;
-  std::vector<double> values;  // μ, in the sweep's parameter order
-  bool test = false;           // held out from training
-  std::string snapshot;        // file name in the sweep folder, e.g. "member_000003.h5"
-
-  bool operator==(const SweepMember& other) const;
-};
 
 // The snapshots of one split, member by member, frames in time order; P material points each, in the
 // snapshots' initial particle order.
@@ -63,7 +54,7 @@ struct RomDataset {
 // motionless; their standard deviation is raised to it so the standardised output stays finite.
 inline constexpr double kMinDisplacementStd = 1e-6;
 
-// Reads DIR/manifest.json (format "romp-sweep") and every member's snapshot. The snapshots must hold x, v and F
+// Reads DIR/manifest.json (read_sweep_manifest) and every member's snapshot. The snapshots must hold x, v and F
 // per frame and share one reference configuration X; at least one member must be for training. Throws
 // romp::Error naming the folder, the member and the file.
 RomDataset load_rom_dataset(const std::string& dir, const RomDatasetOptions& options);

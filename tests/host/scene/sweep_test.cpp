@@ -50,6 +50,29 @@ TEST(Sweep, AGridBeyondAMillionMembersIsRefusedNotWrapped) {
   EXPECT_EQ(sweep_members(sweep).size(), 65536u);
 }
 
+// 1,000,000 random members of 40 parameters (tests/fuzz/corpus/scene/regression_oom_sweep_values.toml) took
+// 4 GB to list: the values the members hold are bounded, for every method, before any member is made.
+TEST(Sweep, MembersHoldingBeyondAMillionValuesAreRefused) {
+  for (const SweepMethod method : {SweepMethod::Random, SweepMethod::LatinHypercube, SweepMethod::Grid}) {
+    SweepSpec sweep = two_axis_sweep(method);
+    sweep.samples = 1000000;
+    if (method == SweepMethod::Grid)
+      sweep.axes = {{"a", std::vector<double>(1000, 1.0), 0.0, 1.0},
+                    {"b", std::vector<double>(1000, 1.0), 0.0, 1.0},
+                    {"c", {1.0}, 0.0, 1.0}};
+    try {
+      sweep_members(sweep);
+      FAIL() << "accepted";
+    } catch (const SceneError& error) {
+      EXPECT_NE(std::string(error.what()).find("values; at most 1000000 are allowed"), std::string::npos)
+          << error.what();
+    }
+  }
+  SweepSpec sweep = two_axis_sweep(SweepMethod::Random);
+  sweep.samples = 500000;
+  EXPECT_EQ(sweep_members(sweep).size(), 500000u);
+}
+
 TEST(Sweep, LatinHypercubePutsOneSampleInEveryStratumOfEveryAxis) {
   const SweepSpec sweep = two_axis_sweep(SweepMethod::LatinHypercube);
   const std::vector<SweepMember> members = sweep_members(sweep);
