@@ -2,8 +2,10 @@
 #include "nn/rom/rom_model_file.h"
 
 #include <cmath>
+#include <limits>
 
 #include "kernels/core/error.h"
+#include "kernels/rom/deformation_map_eval.h"
 
 namespace romp::nn::rom {
 namespace {
@@ -22,11 +24,21 @@ std::string object_path(const io::hdf5::Group& group, const std::string& path) {
   throw io::UnusableFileError(group.label() + ": " + what + " " + object_path(group, "") + ": " + problem);
 }
 
-std::int64_t read_at_least(const io::hdf5::Group& group, const std::string& name, std::int64_t minimum) {
+// The sizes a model may declare. Modules are built from them before any weight is read, so a damaged or
+// hostile file must not ask for more than a model could be: these are far above the paper's (a width of
+// 30 to 128, 5 hidden layers, r ≤ 7, a few thousand encoder points) and the fused kernels' latent limit.
+constexpr std::int64_t kMaxWidth = 4096, kMaxHiddenLayers = 64, kMaxEncoderPoints = std::int64_t(1) << 24,
+                       kMaxParticles = (std::int64_t(1) << 31) - 1;
+// What the training record's counts may be (they size nothing).
+constexpr std::int64_t kUnbounded = std::numeric_limits<std::int64_t>::max();
+
+std::int64_t read_in(const io::hdf5::Group& group, const std::string& name, std::int64_t minimum,
+                     std::int64_t maximum) {
   const std::int64_t value = group.read_int64_attribute(name);
-  if (value < minimum) {
+  if (value < minimum || value > maximum) {
     throw io::UnusableFileError(group.label() + ": attribute " + object_path(group, name) + ": " +
-                                std::to_string(value) + " is below " + std::to_string(minimum));
+                                std::to_string(value) + " is outside [" + std::to_string(minimum) + ", " +
+                                std::to_string(maximum) + "]");
   }
   return value;
 }
@@ -97,8 +109,8 @@ DeformationMap read_map(const io::hdf5::Group& root, std::int64_t latent) {
   expect_string(group, "output", kMapOutput);
   MapArchitecture architecture;
   architecture.latent = latent;
-  architecture.hidden_layers = read_at_least(group, "hidden_layers", 0);
-  architecture.width = read_at_least(group, "width", 1);
+  architecture.hidden_layers = read_in(group, "hidden_layers", 0, kMaxHiddenLayers);
+  architecture.width = read_in(group, "width", 1, kMaxWidth);
   if ((kind == "linear") != (architecture.hidden_layers == 0))
     invalid(group, "group",
             "kind \"" + kind + "\" with " + std::to_string(architecture.hidden_layers) + " hidden layers");
@@ -141,8 +153,8 @@ std::int64_t read_encoder(const io::hdf5::Group& root, RomModel& model) {
   expect_int(group, "stride", kEncoderStride);
   expect_int(group, "channels", kEncoderChannels);
   expect_int(group, "hidden", kEncoderHidden);
-  const std::int64_t points = read_at_least(group, "points", 1);
-  const std::int64_t particles = read_at_least(group, "particle_count", points);
+  const std::int64_t points = read_in(group, "points", 1, kMaxEncoderPoints);
+  const std::int64_t particles = read_in(group, "particle_count", points, kMaxParticles);
   expect_int(group, "conv_layers", encoder_conv_layers(points));
   const std::vector<std::int64_t> indices = group.read_dataset<std::int64_t>("indices", {std::uint64_t(points)});
   for (std::size_t i = 0; i < indices.size(); ++i) {
@@ -222,11 +234,11 @@ TrainingRecord read_training(const io::hdf5::Group& root, const MapArchitecture&
   record.parameter_names = group.read_strings_attribute("parameter_names");
   TrainingSettings& s = record.settings;
   s.architecture = architecture;
-  s.epochs = read_at_least(group, "epochs", 1);
-  record.epochs_done = read_at_least(group, "epochs_done", 0);
-  s.batch = read_at_least(group, "batch", 1);
-  s.points = read_at_least(group, "points", 1);
-  s.encoder_points = read_at_least(group, "encoder_points", 0);
+  s.epochs = read_in(group, "epochs", 1, kUnbounded);
+  record.epochs_done = read_in(group, "epochs_done", 0, kUnbounded);
+  s.batch = read_in(group, "batch", 1, kUnbounded);
+  s.points = read_in(group, "points", 1, kUnbounded);
+  s.encoder_points = read_in(group, "encoder_points", 0, kUnbounded);
   s.seed = std::uint64_t(group.read_int64_attribute("seed"));
   s.loss_weights.F = group.read_double_attribute("lambda_F");
   s.loss_weights.velocity = group.read_double_attribute("lambda_v");
@@ -284,7 +296,7 @@ void write_model_groups(io::hdf5::Group& root, const RomModel& model) {
 
 RomModel read_model_groups(const io::hdf5::Group& root, const torch::Device& device) {
   RomModel model;
-  const std::int64_t latent = read_at_least(root, "latent", 1);
+  const std::int64_t latent = read_in(root, "latent", 1, romp::rom::kMaxMapLatent);
   model.map = read_map(root, latent);
   const std::int64_t particles = read_encoder(root, model);
   model.training = read_training(root, model.map->architecture());

@@ -124,6 +124,23 @@ TEST_F(RomModelFile, InconsistentArchitectureIsRejected) {
   EXPECT_NE(message.find("/map"), std::string::npos) << message;
 }
 
+// Sizes come from the file before any module is built: a hostile width, depth, latent or encoder size is
+// refused by name before it can ask for terabytes.
+TEST_F(RomModelFile, SizesBeyondAnyModelAreRejectedBeforeAllocating) {
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"map", "width"}, {"map", "hidden_layers"}, {"encoder", "points"}, {"", "latent"}};
+  for (const auto& [group_name, attribute] : cases) {
+    write_rom_model(path_, small_model(5));  // one size wrong at a time
+    const std::string message = error_after([&, group = group_name, name = attribute](io::hdf5::File& file) {
+      if (group.empty())
+        file.write_attribute(name, std::int64_t(1) << 40);
+      else
+        file.open_group(group).write_attribute(name, std::int64_t(1) << 40);
+    });
+    EXPECT_NE(message.find(attribute + ": 1099511627776 is outside ["), std::string::npos) << message;
+  }
+}
+
 TEST_F(RomModelFile, TruncatedFileIsRejectedNamingIt) {
   std::filesystem::resize_file(path_, std::filesystem::file_size(path_) / 2);
   const std::string message = test::error_message([&] { read_rom_model(path_); });
