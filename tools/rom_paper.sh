@@ -35,6 +35,9 @@
 # --dx X: the tower's cell size in m (a divisor of 0.192, e.g. 0.024, 0.0192, 0.0096, 0.0048);
 # options after -- go to every romp command (e.g. -- --device cpu --threads 1).
 #
+# Exit status: 0 when every run succeeded, 1 when a reduced run (or a tracer baseline) failed (the table
+# says which cells, stderr lists their logs), 2 for bad arguments, 130 when interrupted.
+#
 # Steps whose output exists are skipped and an interrupted training resumes from its checkpoint, so
 # experiments on the same OUTPUT_DIR share sweeps and maps; an existing sweep placed at
 # OUTPUT_DIR/<scene>/sweep or a map at OUTPUT_DIR/<scene>/<map>.h5 is reused the same way.
@@ -140,6 +143,10 @@ rom_run_path() {
 # and prints "k/N done, ETA". Runs in parallel (--jobs) append whole short lines (O_APPEND), so the
 # counts stay exact.
 ledger="$out/.reduced_runs"
+# Runs that failed in this call (their logs), so that the script ends with 1 when any did.
+failures="$out/.failed_runs"
+mkdir -p "$out"
+rm -f "$failures"
 step() { echo "step $1/3: $2" >&2; }
 plan_runs() {
   mkdir -p "$out"
@@ -175,7 +182,7 @@ rom_run() {
   [ "$jobs" -le 1 ] || threads=("${shared_cores[@]}")
   "$romp" "${threads[@]}" "${options[@]}" run --no-progress "$scene" --rom "$model" --quadrature "$quadrature" \
     --projection "$projection" --samples "$samples" ${rom_cfl:+--rom-cfl "$rom_cfl"} -o "$run" \
-    > "${run%.h5}.log" 2>&1 < /dev/null || touch "$run.failed"
+    > "${run%.h5}.log" 2>&1 < /dev/null || { touch "$run.failed"; echo "${run%.h5}.log" >> "$failures"; }
   ran_run ran
 }
 
@@ -255,7 +262,7 @@ superres_table() {
     fi
     local tracers="$folder/tracers-m$index.h5"
     [ -f "$tracers" ] || "$romp" "${options[@]}" run --no-progress "$member_scene" --output-points "$fine" \
-      -o "$tracers" > "${tracers%.h5}.log" 2>&1 || true
+      -o "$tracers" > "${tracers%.h5}.log" 2>&1 || echo "${tracers%.h5}.log" >> "$failures"
     cells[baseline]+=" $([ -f "$tracers" ] && error "$tracers" "$fine" || echo failed)"
     for scheme in "${scheme_list[@]}"; do
       for samples in "$@"; do
@@ -265,7 +272,7 @@ superres_table() {
         else
           "$romp" "${options[@]}" run --no-progress "$member_scene" --rom "$model" \
             --quadrature "${scheme%-*}" --projection "${scheme#*-}" --samples "$samples" --output-points "$fine" \
-            ${rom_cfl:+--rom-cfl "$rom_cfl"} -o "$run" > "${run%.h5}.log" 2>&1 || true
+            ${rom_cfl:+--rom-cfl "$rom_cfl"} -o "$run" > "${run%.h5}.log" 2>&1 || echo "${run%.h5}.log" >> "$failures"
           ran_run ran
         fi
         cells[$scheme-$samples]+=" $([ -f "$run" ] && error "$run" "$fine" || echo failed)"
@@ -386,3 +393,9 @@ case "$experiment" in
     ;;
   *) usage ;;
 esac
+# The table says how many runs of a cell failed; the exit status says whether any did.
+if [ -s "$failures" ]; then
+  echo "$(wc -l < "$failures") reduced run(s) failed; their logs:" >&2
+  sed 's/^/  /' "$failures" >&2
+  exit 1
+fi

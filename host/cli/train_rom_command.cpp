@@ -127,6 +127,11 @@ int train_rom_command(DeviceChoice choice, int threads, const TrainRomOptions& o
   train.checkpoint_every = options.checkpoint_every;
   train.resume = options.resume;
 
+  // As `romp run --resume`: a finished model has nothing to resume.
+  if (options.resume && !std::filesystem::exists(train.checkpoint) && std::filesystem::exists(options.output)) {
+    spdlog::info("{} is complete; nothing to resume", options.output);
+    return 0;
+  }
   nn::rom::RomDataset data;
   try {
     if (options.resume && !std::filesystem::exists(train.checkpoint))

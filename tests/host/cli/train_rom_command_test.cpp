@@ -1,5 +1,5 @@
 // `romp train-rom` end to end: a sweep folder in, a model file out that reads back with its record; an unusable
-// folder and a --resume without a checkpoint exit 3 and say why.
+// folder and a --resume without a checkpoint exit 3 and say why; a --resume of a finished model does nothing.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -64,6 +64,19 @@ TEST(TrainRomCommand, ResumeWithoutCheckpointExits3) {
   const Outcome run = romp_train_rom(folder, folder.path().string() + " -o " + folder.file("m.h5") + " --resume");
   EXPECT_EQ(run.exit_code, 3) << run.output;
   EXPECT_NE(run.output.find("no checkpoint " + folder.file("m.h5.checkpoint")), std::string::npos) << run.output;
+}
+
+// As `romp run --resume` on a finished output: nothing to do, exit 0, the model untouched.
+TEST(TrainRomCommand, ResumeOfAFinishedModelDoesNothing) {
+  const test::ScratchFolder folder;
+  const std::string model = folder.file("m.h5");
+  std::ofstream(model) << "a finished model";
+  const Outcome run = romp_train_rom(folder, folder.path().string() + " -o " + model + " --resume");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find(model + " is complete; nothing to resume"), std::string::npos) << run.output;
+  std::ostringstream kept;
+  kept << std::ifstream(model).rdbuf();
+  EXPECT_EQ(kept.str(), "a finished model");
 }
 
 }  // namespace
