@@ -53,7 +53,9 @@ FullOrderSim::~FullOrderSim() = default;
 
 float FullOrderSim::stable_dt() {
   if (config_.fixed_dt > 0.0f) return config_.fixed_dt;
-  const float particle_speed = mpm::max_particle_speed(exec_, particles_.view(), speed_slot_.span());
+  const float particle_speed = last_particle_speed_
+                                   ? *last_particle_speed_
+                                   : mpm::max_particle_speed(exec_, particles_.view(), speed_slot_.span());
   // Deformed domains are stiffer than at rest (domain_stiffening); the last substep's state stands
   // in for this one's.
   const float wave_speed = inputs_.max_wave_speed() * (domains_ ? std::sqrt(domains_->stiffening(exec_)) : 1.0f);
@@ -116,11 +118,13 @@ void FullOrderSim::substep(float dt) {
       enrichment_.largest_share_step = steps_;
     }
   }
-  inputs_.check_stages("", steps_, time_, [this](mpm::Stage, std::int64_t slot) {
-    // Report the particle by its initial index, which is what outputs and scenes refer to.
-    const std::int32_t id = download(exec_.backend, particles_.view().id.subspan(slot, 1), exec_.stream)[0];
-    return std::pair<std::int64_t, std::string>(id, fmt::format("particle {}", id));
-  });
+  // The failure slots come back with the particles' largest speed, the next CFL step's: one download.
+  last_particle_speed_ =
+      inputs_.check_stages_and_speed("", steps_, time_, particles_.view(), [this](mpm::Stage, std::int64_t slot) {
+        // Report the particle by its initial index, which is what outputs and scenes refer to.
+        const std::int32_t id = download(exec_.backend, particles_.view().id.subspan(slot, 1), exec_.stream)[0];
+        return std::pair<std::int64_t, std::string>(id, fmt::format("particle {}", id));
+      });
 }
 
 void FullOrderSim::set_tracers(const std::vector<float>& X) {

@@ -57,7 +57,12 @@ class FullOrderSim {
   std::int64_t steps() const { return steps_; }
   const Exec& exec() const { return exec_; }
   const FullOrderConfig& config() const { return config_; }
-  mpm::ParticleSet& particles() { return particles_; }
+  const mpm::ParticleSet& particles() const { return particles_; }
+  // The particles, to change (or read): the next stable_dt then measures their speed anew.
+  mpm::ParticleSet& particles() {
+    last_particle_speed_.reset();
+    return particles_;
+  }
   const mpm::SparseGrid& grid() const { return grid_; }
   // The particle domains of the scene's objects that asked for them (objects.domains), if any.
   const std::optional<mpm::ParticleDomains>& domains() const { return domains_; }
@@ -89,7 +94,10 @@ class FullOrderSim {
   std::optional<mpm::ParticleDomains> domains_;
   mpm::SparseGrid grid_;
   StepInputs inputs_;
-  DeviceBuffer<float> speed_slot_;              // mpm::max_particle_speed's result
+  DeviceBuffer<float> speed_slot_;  // mpm::max_particle_speed's result
+  // The particles' largest speed at the end of the last substep, read back with its failure slots, for
+  // the next CFL step; empty before the first substep and after particles() was handed out.
+  std::optional<float> last_particle_speed_;
   std::optional<ImplicitGridSolver> implicit_;  // with Integrator::Implicit only
   std::unique_ptr<NeuralMaterials> neural_;     // when some material is a learned law
   std::optional<TracerSet> tracers_;

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <utility>
 
 #include "host/engine/full_order_sim.h"
 
@@ -21,11 +22,13 @@ class FullOrderRun final : public Simulation {
     io::FrameData frame;
     frame.time = sim_.time();
     frame.step = sim_.steps();
-    frame.x = sim_.particles().positions_in_initial_order(sim_.exec());
-    frame.v = sim_.particles().velocities_in_initial_order(sim_.exec());
-    frame.F = sim_.particles().deformation_gradients_in_initial_order(sim_.exec());
-    frame.C = sim_.particles().affine_velocities_in_initial_order(sim_.exec());
-    const std::vector<float> plastic = sim_.particles().plastic_state_in_initial_order(sim_.exec());
+    // Read through the const view: the particles stay as they are (and the next step keeps its speed).
+    const mpm::ParticleSet& particles = std::as_const(sim_).particles();
+    frame.x = particles.positions_in_initial_order(sim_.exec());
+    frame.v = particles.velocities_in_initial_order(sim_.exec());
+    frame.F = particles.deformation_gradients_in_initial_order(sim_.exec());
+    frame.C = particles.affine_velocities_in_initial_order(sim_.exec());
+    const std::vector<float> plastic = particles.plastic_state_in_initial_order(sim_.exec());
     if (!plastic.empty()) {
       const std::size_t n = plastic.size() / 2;
       frame.Jp.assign(plastic.begin(), plastic.begin() + std::ptrdiff_t(n));
@@ -49,7 +52,7 @@ class FullOrderRun final : public Simulation {
   DomainState domain_state() override {
     if (!sim_.domains()) return {};
     return {sim_.domains()->corner_positions_on_host(sim_.exec()), sim_.domains()->stiffening(sim_.exec()),
-            sim_.particles().domains_in_initial_order(sim_.exec())};
+            std::as_const(sim_).particles().domains_in_initial_order(sim_.exec())};
   }
   bool resumable() const override { return true; }
   std::vector<std::string> diagnostics() const override {
