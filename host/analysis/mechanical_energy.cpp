@@ -1,32 +1,30 @@
-// Mechanical energy from a read-back of the particles, summed in double.
+// Mechanical energy from a read-back of the particles: the frame totals of romp's outputs
+// (host/run/frame_outputs.h), with heights measured from the caller's origin.
 #include "host/analysis/mechanical_energy.h"
 
-#include <vector>
+#include <utility>
+
+#include "host/run/frame_outputs.h"
+#include "nn/io/snapshot_layout.h"
 
 namespace romp::analysis {
 
 double mechanical_energy(engine::FullOrderSim& sim, const mpm::ParticleInit& init, const Vec3<float>& origin) {
   const Exec& exec = sim.exec();
-  const std::vector<float> x = sim.particles().positions_in_initial_order(exec);
-  const std::vector<float> v = sim.particles().velocities_in_initial_order(exec);
-  const std::vector<float> F = sim.particles().deformation_gradients_in_initial_order(exec);
-  const Vec3<float> gravity = sim.config().gravity;
-  const std::size_t n = std::size_t(init.count());
-  double energy = 0.0;
-  for (std::size_t p = 0; p < n; ++p) {
-    Vec3<float> height, velocity;
-    Mat3<float> Fp;
-    for (int a = 0; a < 3; ++a) {
-      height[a] = x[a * n + p] - origin[a];
-      velocity[a] = v[a * n + p];
-    }
-    for (int k = 0; k < 9; ++k) Fp(k / 3, k % 3) = F[k * n + p];
-    const material::MaterialParams<float>& params = sim.config().materials[std::size_t(init.material[p])].params;
-    const double mass = init.mass[p];
-    energy += 0.5 * mass * double(squared_norm(velocity)) - mass * double(dot(gravity, height)) +
-              double(init.volume0[p]) * double(material::energy_density(params, Fp));
-  }
-  return energy;
+  const mpm::ParticleSet& particles = std::as_const(sim).particles();
+  io::FrameData frame;
+  frame.x = particles.positions_in_initial_order(exec);
+  frame.v = particles.velocities_in_initial_order(exec);
+  frame.F = particles.deformation_gradients_in_initial_order(exec);
+  // No C: the particles' APIC spin is momentum, not energy the totals count.
+  run::FrameOutputs(io::kFieldX, sim.config(), init).add_to(frame);
+  const io::FrameTotals& totals = *frame.totals;
+  // The totals' potential −Σ m g·x is zero at the coordinate origin; from `origin` it is −Σ m g·(x − o).
+  double mass = 0.0;
+  for (const float m : init.mass) mass += m;
+  const Vec3<float>& g = sim.config().gravity;
+  const double shift = mass * (double(g[0]) * origin[0] + double(g[1]) * origin[1] + double(g[2]) * origin[2]);
+  return totals.kinetic_energy + totals.elastic_energy + totals.gravitational_energy + shift;
 }
 
 }  // namespace romp::analysis

@@ -9,20 +9,13 @@
 
 #include "kernels/core/error.h"
 #include "kernels/math/mat3.h"
+#include "kernels/math/mat3_planes.h"
 #include "kernels/mpm/bspline.h"
 
 namespace romp::run {
 namespace {
 
-Mat3<float> matrix_at(const std::vector<float>& planes, std::size_t n, std::size_t p) {
-  Mat3<float> m;
-  for (int k = 0; k < 9; ++k) m(k / 3, k % 3) = planes[std::size_t(k) * n + p];
-  return m;
-}
-
-Vec3<double> vector_at(const std::vector<float>& planes, std::size_t n, std::size_t p) {
-  return Vec3<double>(planes[p], planes[n + p], planes[2 * n + p]);
-}
+Vec3<double> to_double(const Vec3<float>& v) { return Vec3<double>(v[0], v[1], v[2]); }
 
 // σ's von Mises equivalent: √(3/2 s:s), s = σ − tr(σ)/3 I.
 double von_mises(const Mat3<double>& sigma) {
@@ -51,6 +44,11 @@ FrameOutputs::FrameOutputs(io::FieldMask fields, const engine::FullOrderConfig& 
     materials_.push_back(m.params);
     learned_law_ |= m.params.model == material::MaterialModel::Neural;
   }
+  if ((fields & io::kPlasticFields) && particles.plastic.empty())
+    throw Error(
+        fmt::format("output.fields {}: no particle of this run keeps a plastic state (a drucker-prager or "
+                    "von-mises material, in a full-order run)",
+                    fmt::join(io::field_names(fields & io::kPlasticFields), ", ")));
   if (learned_law_ && (fields & io::kDerivedFields))
     throw Error(
         fmt::format("output.fields: {} need a material's stress and energy in closed form; a learned law "
@@ -63,6 +61,8 @@ void FrameOutputs::add_to(io::FrameData& frame) const {
   ROMP_CHECK(frame.x.size() == 3 * n && frame.v.size() == 3 * n && frame.F.size() == 9 * n,
              fmt::format("frame outputs: a frame of {} particles needs x, v and F", n));
   const bool spin = affine_inertia_ > 0.0 && frame.C.size() == 9 * n;
+  const Vec3Planes<const float> xs(frame.x.data(), Index(n)), vs(frame.v.data(), Index(n));
+  const Mat3Planes<const float> Fs(frame.F.data(), Index(n)), Cs(spin ? frame.C.data() : nullptr, Index(n));
   for (const io::FieldInfo& info : io::kFieldInfos)
     if (fields_ & info.bit & io::kDerivedFields) frame.field(info.bit).assign(std::size_t(info.components) * n, 0.0f);
   io::FrameTotals totals;
@@ -70,20 +70,20 @@ void FrameOutputs::add_to(io::FrameData& frame) const {
   Vec3<double> momentum = Vec3<double>::zero(), angular = Vec3<double>::zero();
   for (std::size_t p = 0; p < n; ++p) {
     const double m = mass_[p];
-    const Vec3<double> x = vector_at(frame.x, n, p), v = vector_at(frame.v, n, p);
+    const Vec3<double> x = to_double(xs.load(Index(p))), v = to_double(vs.load(Index(p)));
     totals.kinetic_energy += 0.5 * m * squared_norm(v);
     totals.gravitational_energy -= m * dot(gravity_, x);
     momentum += v * m;
     angular += cross(x, v) * m;
     if (spin) {
       // ε_ijk C_kj: twice the axial vector of C's skew part.
-      const Mat3<float> C = matrix_at(frame.C, n, p);
+      const Mat3<float> C = Cs.load(Index(p));
       const Vec3<double> axial(C(2, 1) - C(1, 2), C(0, 2) - C(2, 0), C(1, 0) - C(0, 1));
       angular += axial * (m * affine_inertia_);
     }
     if (learned_law_) continue;
     const material::MaterialParams<float>& params = materials_[std::size_t(material_[p])];
-    const Mat3<float> F = matrix_at(frame.F, n, p);
+    const Mat3<float> F = Fs.load(Index(p));
     const double psi = material::energy_density(params, F);
     elastic += volume0_[p] * psi;
     if (!(fields_ & io::kDerivedFields)) continue;

@@ -18,7 +18,7 @@ class FrameOutputs {
  public:
   // `particles`: mass, volume0 and material of every particle in the initial order (the frames' order).
   // Throws romp::Error naming output.fields when a selected field needs an energy or a stress that a
-  // material does not define in closed form (a learned law).
+  // material does not define in closed form (a learned law), or a plastic state the particles do not keep.
   FrameOutputs(io::FieldMask fields, const engine::FullOrderConfig& config, const mpm::ParticleInit& particles);
 
   // Fills the selected derived fields and the totals of `frame` (whose x, v and F are filled; C too

@@ -180,11 +180,6 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
                    fmt::join(io::field_names(fields & (io::kDerivedFields | io::kPlasticFields)), ", "));
     fields &= ~(io::kDerivedFields | io::kPlasticFields);
   } else {
-    if ((fields & io::kPlasticFields) && (setup.particles.plastic.empty() || options.make_reduced))
-      throw scene::SceneError(
-          fmt::format("{}: output.fields {}: no particle of this run keeps a plastic state (a "
-                      "drucker-prager or von-mises material, in a full-order run)",
-                      scene.source_file, fmt::join(io::field_names(fields & io::kPlasticFields), ", ")));
     try {
       frame_outputs.emplace(fields, setup.config, setup.particles);
     } catch (const Error& error) {

@@ -58,11 +58,11 @@ geometry::PointCloud load_points(const ObjectSpec& object, const std::string& sc
       throw SceneError(fmt::format("{}: the file gives no volume per point; set particle_volume (m^3)", where));
     cloud.volume.assign(cloud.x.size(), object.particle_volume);
   }
+  // Positions are checked with every object's, against the domain (scene_setup); velocities and volumes here.
   for (std::size_t p = 0; p < cloud.x.size(); ++p) {
-    const bool finite = std::isfinite(cloud.x[p][0]) && std::isfinite(cloud.x[p][1]) && std::isfinite(cloud.x[p][2]) &&
-                        (cloud.v.empty() || (std::isfinite(cloud.v[p][0]) && std::isfinite(cloud.v[p][1]) &&
-                                             std::isfinite(cloud.v[p][2])));
-    if (!finite) throw SceneError(fmt::format("{}: point {} has a position or velocity that is not finite", where, p));
+    if (!cloud.v.empty() &&
+        !(std::isfinite(cloud.v[p][0]) && std::isfinite(cloud.v[p][1]) && std::isfinite(cloud.v[p][2])))
+      throw SceneError(fmt::format("{}: point {} has a velocity that is not finite", where, p));
     if (!(cloud.volume[p] > 0.0 && std::isfinite(cloud.volume[p])))
       throw SceneError(fmt::format("{}: point {} has volume {}, not a finite value > 0", where, p, cloud.volume[p]));
   }

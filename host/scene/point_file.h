@@ -11,7 +11,8 @@ namespace romp::scene {
 
 // The object's points, each with its volume (the file's, or the object's particle_volume) and, where
 // the file has them, its velocity. Throws SceneError naming `scene_file`, the object and the file when
-// the file cannot be read, the frame does not exist, no volume is known, or a value is not finite.
+// the file cannot be read, the frame does not exist, no volume is known, or a velocity or volume is not
+// finite (positions are checked against the domain with every object's).
 geometry::PointCloud load_points(const ObjectSpec& object, const std::string& scene_file);
 
 }  // namespace romp::scene

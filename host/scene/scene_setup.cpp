@@ -148,9 +148,10 @@ void check_inside_domain(const Scene& scene, const ObjectSpec& object, const std
   for (const Vec3<double>& p : points)
     for (int a = 0; a < 3; ++a) {
       const double low = scene.dx, high = scene.domain_size[a] - scene.dx;
-      if (p[a] < low || p[a] > high)
+      if (!(p[a] >= low && p[a] <= high))  // a non-finite position too (a point file's)
         throw SceneError(fmt::format(
-            "{}: objects '{}': a particle at {} lies outside the domain's interior [{}, {}] along axis {} (the "
+            "{}: objects '{}': a particle at {} lies outside the domain's interior [{}, {}] along axis {} (or is "
+            "not finite; the "
             "outermost cell is reserved for the stencil); move or shrink the object, or enlarge [domain] size",
             scene.source_file, object.name, geometry::describe_point(p), low, high, a));
     }

@@ -59,7 +59,7 @@ struct TwoParticles {
 
 TEST(FrameOutputs, DerivedFieldsFollowTheirDefinitions) {
   TwoParticles t;
-  const FrameOutputs outputs(io::kAllFields, t.config, t.particles);
+  const FrameOutputs outputs(io::kStateFields | io::kDerivedFields, t.config, t.particles);
   outputs.add_to(t.frame);
   const material::MaterialParams<float>& params = t.config.materials[0].params;
   const Mat3<float> P = material::first_piola(params, t.F0);

@@ -203,7 +203,19 @@ TEST(SceneSetup, BadPointFilesAreRefusedNamingTheObjectAndTheFile) {
   write_text(ply, bytes);
   const std::string nan =
       test::error_message([&] { sample_scene(parse_scene(points_scene(ply, "particle_volume = 1e-6"), "n.toml")); });
-  EXPECT_NE(nan.find("point 0 has a position or velocity that is not finite"), std::string::npos) << nan;
+  EXPECT_NE(nan.find("objects 'object0': a particle at (nan, 0.5, 0.5) lies outside the domain's interior"),
+            std::string::npos)
+      << nan;
+  const std::string moving = folder.file("nan_velocity.ply");
+  std::string moving_bytes =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float vx\nproperty float vy\nproperty float vz\nend_header\n";
+  const float moving_values[6] = {0.5f, 0.5f, 0.5f, 0.0f, std::nanf(""), 0.0f};
+  moving_bytes.append(reinterpret_cast<const char*>(moving_values), sizeof moving_values);
+  write_text(moving, moving_bytes);
+  const std::string velocity =
+      test::error_message([&] { sample_scene(parse_scene(points_scene(moving, "particle_volume = 1e-6"), "v.toml")); });
+  EXPECT_NE(velocity.find("point 0 has a velocity that is not finite"), std::string::npos) << velocity;
   const std::string both = test::error_message([&] {
     parse_scene(cube_scene("points = \"" + ply + "\""), "both.toml");  // a shape as well
   });
