@@ -3,7 +3,7 @@
 #   tools/fuzz.sh TARGET WORK_DIR [libFuzzer options...]
 # TARGET: formula (the scene formula evaluator), scene (the scene reader of `romp check`, libtoml++ built
 # in), manifest (the sweep manifest that `romp train-rom` reads), law (a learned law's file, without
-# LibTorch), snapshot (the snapshot reader and libhdf5 under it) or checkpoint (the run checkpoint reader of
+# LibTorch), model (a ROM model file, without LibTorch), snapshot (the snapshot reader and libhdf5 under it) or checkpoint (the run checkpoint reader of
 # --resume).
 # The run starts from the seed corpus tests/fuzz/corpus/TARGET (read only) and keeps what it finds in
 # WORK_DIR/TARGET-corpus; a crash is written to WORK_DIR as crash-* and makes the script fail. ctest runs
@@ -36,12 +36,17 @@ case "$target" in
     # The HDF5 half of the neural-law reader, which read_law_file loads into LibTorch modules of fixed shapes.
     sources=(nn/nclaw/law_file_content.cpp "${hdf5_layer[@]}")
     read -r -a flags <<< "$(pkg-config --cflags --libs hdf5)" ;;
+  model)
+    # The HDF5 half of the ROM model reader, which read_rom_model loads into LibTorch modules of those sizes.
+    sources=(nn/rom/rom_model_file_content.cpp nn/rom/map_layout.cpp nn/rom/encoder_shape.cpp
+      nn/rom/training_record.cpp "${hdf5_layer[@]}")
+    read -r -a flags <<< "$(pkg-config --cflags --libs hdf5)" ;;
   snapshot | checkpoint)
     # The reader and the HDF5 layer under it (nn/io).
     sources=(nn/io/snapshot_layout.cpp "${hdf5_layer[@]}")
     [ "$target" = snapshot ] && sources+=(nn/io/snapshot_reader.cpp) || sources+=(nn/io/checkpoint.cpp)
     read -r -a flags <<< "$(pkg-config --cflags --libs hdf5)" ;;
-  *) echo "fuzz: unknown target '$target' (formula, scene, manifest, law, snapshot, checkpoint)" >&2; exit 2 ;;
+  *) echo "fuzz: unknown target '$target' (formula, scene, manifest, law, model, snapshot, checkpoint)" >&2; exit 2 ;;
 esac
 # ROMP_FUZZ_FRESH=1 (ctest): start from the seeds alone, so that a run is the same every time.
 [ "${ROMP_FUZZ_FRESH:-0}" = 1 ] && rm -rf "$work/$target-corpus"

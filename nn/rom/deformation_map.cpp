@@ -13,11 +13,24 @@ std::string normalisation_problem(const MapNormalisation& n) {
   for (const auto& [name, tensor] : parts) {
     if (!tensor->defined() || tensor->dim() != 1 || tensor->size(0) != 3)
       return std::string(name) + " must hold 3 values";
-    if (!torch::isfinite(*tensor).all().item<bool>()) return std::string(name) + " is not finite";
   }
-  if (!(n.X_max > n.X_min).all().item<bool>()) return "the bounding box X_min .. X_max is empty in some axis";
-  if (!(n.u_std > 0).all().item<bool>()) return "u_std must be positive";
-  return "";
+  return normalisation_problem(normalisation_values(n));
+}
+
+MapNormalisationValues normalisation_values(const MapNormalisation& n) {
+  const auto values = [](const torch::Tensor& tensor) {
+    ROMP_CHECK(tensor.defined() && tensor.numel() == 3, "deformation map normalisation: a part must hold 3 values");
+    const torch::Tensor cpu = tensor.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+    return std::array<float, 3>{cpu.data_ptr<float>()[0], cpu.data_ptr<float>()[1], cpu.data_ptr<float>()[2]};
+  };
+  return {values(n.X_min), values(n.X_max), values(n.u_mean), values(n.u_std)};
+}
+
+MapNormalisation normalisation_tensors(const MapNormalisationValues& values) {
+  const auto tensor = [](const std::array<float, 3>& part) {
+    return torch::tensor(std::vector<float>(part.begin(), part.end()), torch::kFloat32);
+  };
+  return {tensor(values.X_min), tensor(values.X_max), tensor(values.u_mean), tensor(values.u_std)};
 }
 
 DeformationMapImpl::DeformationMapImpl(const MapArchitecture& architecture, const MapNormalisation& normalisation)
@@ -27,14 +40,11 @@ DeformationMapImpl::DeformationMapImpl(const MapArchitecture& architecture, cons
   ROMP_CHECK(architecture.hidden_layers == 0 || architecture.width >= 1, "deformation map: width must be >= 1");
   const std::string problem = normalisation_problem(normalisation);
   ROMP_CHECK(problem.empty(), "deformation map normalisation: " + problem);
-  std::int64_t in = architecture.latent + 3;
-  for (std::int64_t k = 0; k <= architecture.hidden_layers; ++k) {
-    const std::int64_t out = k == architecture.hidden_layers ? 3 : architecture.width;
-    torch::nn::Linear layer = register_module("layer_" + std::to_string(k), torch::nn::Linear(in, out));
+  for (const auto& [out, in] : map_layer_shapes(architecture)) {
+    torch::nn::Linear layer = register_module("layer_" + std::to_string(layers_.size()), torch::nn::Linear(in, out));
     torch::nn::init::xavier_uniform_(layer->weight);
     torch::nn::init::zeros_(layer->bias);
     layers_.push_back(layer);
-    in = out;
   }
   const auto as_float = [](const torch::Tensor& t) { return t.detach().to(torch::kCPU, torch::kFloat32).clone(); };
   X_min_ = register_buffer("X_min", as_float(normalisation.X_min));

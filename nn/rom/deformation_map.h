@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "nn/rom/map_layout.h"
+
 namespace romp::nn::rom {
 
 // The fixed affine maps around the network, from the training data: in, X̄ = (X − X_min) / (X_max − X_min)
@@ -17,16 +19,6 @@ struct MapNormalisation {
   torch::Tensor X_min, X_max;   // [3]
   torch::Tensor u_mean, u_std;  // [3], u_std > 0
 };
-
-struct MapArchitecture {
-  std::int64_t latent = 6;         // r, the number of generalized coordinates
-  std::int64_t hidden_layers = 5;  // ELU layers of `width`; 0 is the linear baseline (one affine layer)
-  std::int64_t width = 30;
-};
-
-// The authors' code: 5 hidden layers of width 30. (Table 1 lists 5 affine layers, i.e. 4 hidden ones; the
-// model file records the layer list, so either reads back.)
-inline constexpr std::int64_t kDefaultHiddenLayers = 5;
 
 class DeformationMapImpl : public torch::nn::Module {
  public:
@@ -60,5 +52,8 @@ TORCH_MODULE(DeformationMap);
 // What is wrong with a normalisation ("u_std must be positive"), or "" when it holds four finite [3] tensors with
 // X_max > X_min and u_std > 0.
 std::string normalisation_problem(const MapNormalisation& normalisation);
+// The tensors as values, and back (float32 on the CPU); `values` requires four [3] tensors.
+MapNormalisationValues normalisation_values(const MapNormalisation& normalisation);
+MapNormalisation normalisation_tensors(const MapNormalisationValues& values);
 
 }  // namespace romp::nn::rom

@@ -1,4 +1,4 @@
-// The encoder e: the convolution count of Table 1, layers and the forward pass.
+// The encoder e: layers and the forward pass.
 #include "nn/rom/encoder.h"
 
 #include <string>
@@ -6,21 +6,6 @@
 #include "kernels/core/error.h"
 
 namespace romp::nn::rom {
-namespace {
-
-std::int64_t conv_length(std::int64_t length) { return (length - kEncoderKernel) / kEncoderStride + 1; }
-
-}  // namespace
-
-std::int64_t encoder_conv_layers(std::int64_t points) {
-  std::int64_t layers = 0;
-  for (std::int64_t length = points;
-       length >= kEncoderKernel && kEncoderChannels * conv_length(length) >= kEncoderHidden;
-       length = conv_length(length)) {
-    ++layers;
-  }
-  return layers;
-}
 
 EncoderImpl::EncoderImpl(std::int64_t points, std::int64_t latent, const torch::Tensor& X_min,
                          const torch::Tensor& X_max)
@@ -48,11 +33,7 @@ EncoderImpl::EncoderImpl(std::int64_t points, std::int64_t latent, const torch::
   X_max_ = register_buffer("X_max", X_max.detach().to(torch::kCPU, torch::kFloat32).clone());
 }
 
-std::int64_t EncoderImpl::conv_features() const {
-  std::int64_t length = points_;
-  for (std::size_t k = 0; k < convolutions_.size(); ++k) length = conv_length(length);
-  return kEncoderChannels * length;
-}
+std::int64_t EncoderImpl::conv_features() const { return encoder_conv_features(points_); }
 
 torch::Tensor EncoderImpl::forward(const torch::Tensor& x) const {
   ROMP_CHECK(x.dim() == 3 && x.size(1) == points_ && x.size(2) == 3,

@@ -7,17 +7,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "nn/rom/encoder_shape.h"
+
 namespace romp::nn::rom {
-
-// Table 1: Conv1d layers with kernel 6 and stride 2 over the point sequence, 3 channels (x, y, z), until the
-// flattened length d_conv is as low as possible but no smaller than 32; then affine d_conv → 32 → r.
-inline constexpr std::int64_t kEncoderChannels = 3;
-inline constexpr std::int64_t kEncoderKernel = 6;
-inline constexpr std::int64_t kEncoderStride = 2;
-inline constexpr std::int64_t kEncoderHidden = 32;
-
-// The number of convolutions Table 1's rule applies to a sequence of `points` positions.
-std::int64_t encoder_conv_layers(std::int64_t points);
 
 class EncoderImpl : public torch::nn::Module {
  public:

@@ -69,10 +69,6 @@ ManifoldJacobians autograd(const DeformationMapImpl& g, const torch::Tensor& xha
 
 }  // namespace
 
-const char* to_string(DerivativeMethod method) {
-  return method == DerivativeMethod::Analytic ? "analytic" : "autograd";
-}
-
 ManifoldJacobians manifold_jacobians(const DeformationMapImpl& g, const torch::Tensor& xhat, const torch::Tensor& X,
                                      const torch::Tensor& directions, DerivativeMethod method, bool create_graph) {
   const std::int64_t r = g.architecture().latent;

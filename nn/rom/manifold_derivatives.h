@@ -5,18 +5,9 @@
 #include <torch/torch.h>
 
 #include "nn/rom/deformation_map.h"
+#include "nn/rom/training_record.h"
 
 namespace romp::nn::rom {
-
-enum class DerivativeMethod {
-  // Tangents pushed through the layers next to the values (one batched product per layer for 3 + m
-  // directions); the result stays differentiable for training.
-  Analytic,
-  // One reverse pass per output component; with create_graph the loss back-propagates through them.
-  Autograd,
-};
-
-const char* to_string(DerivativeMethod method);
 
 struct ManifoldJacobians {
   torch::Tensor x;   // [N, 3] g(X, x̂)

@@ -15,13 +15,9 @@
 
 #include "nn/rom/deformation_map.h"
 #include "nn/rom/manifold_derivatives.h"
+#include "nn/rom/training_record.h"
 
 namespace romp::nn::rom {
-
-struct LossWeights {
-  double F = 100.0;        // λ_F
-  double velocity = 0.01;  // λ_v
-};
 
 // One mini-batch flattened to N rows (material point p of snapshot s, frame n of its member).
 struct LossBatch {

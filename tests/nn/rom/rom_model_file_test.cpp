@@ -141,6 +141,26 @@ TEST_F(RomModelFile, SizesBeyondAnyModelAreRejectedBeforeAllocating) {
   }
 }
 
+// The training record's member count comes from a dataset's shape: more members than a sweep may have (their
+// values would fill 1,000,000 doubles) is refused before the values are read.
+TEST_F(RomModelFile, MoreMembersThanASweepHoldsAreRejectedBeforeReading) {
+  const std::string message = error_after([](io::hdf5::File& file) {
+    file.remove("/training/members/index");
+    file.write_dataset("/training/members/index", {500001}, std::vector<std::int64_t>(500001, 0));
+  });
+  EXPECT_NE(message.find("500001 members of 2 parameters: a sweep holds at most 1000000 values"), std::string::npos)
+      << message;
+}
+
+// The model fuzzer's seeds (tests/fuzz/corpus/model) are models this version reads: an MLP map with an encoder
+// of one convolution, and the linear baseline.
+TEST(RomModelFuzzSeeds, AreModelsThisVersionReads) {
+  const RomModel mlp = read_rom_model(std::string(ROMP_MODEL_SEED_DIR) + "/model_mlp.h5");
+  EXPECT_EQ(mlp.map->architecture().hidden_layers, 2);
+  EXPECT_EQ(mlp.encoder->convolutions().size(), 1u);
+  EXPECT_TRUE(read_rom_model(std::string(ROMP_MODEL_SEED_DIR) + "/model_linear.h5").map->is_linear());
+}
+
 TEST_F(RomModelFile, TruncatedFileIsRejectedNamingIt) {
   std::filesystem::resize_file(path_, std::filesystem::file_size(path_) / 2);
   const std::string message = test::error_message([&] { read_rom_model(path_); });
