@@ -12,6 +12,7 @@
 #include "host/run/interrupt.h"
 #include "kernels/core/error.h"
 #include "nn/io/atomic_file.h"
+#include "nn/io/unusable_file_error.h"
 #include "nn/nclaw/evaluation.h"
 #include "nn/nclaw/law_file.h"
 #include "nn/nclaw/law_trainer.h"
@@ -154,7 +155,8 @@ int learn_law_command(DeviceChoice choice, int threads, const LearnLawOptions& o
   const std::string checkpoint = options.output + ".checkpoint";
   if (options.resume) {
     if (!std::filesystem::exists(checkpoint))
-      throw Error("--resume: no checkpoint " + checkpoint + " (it is removed once " + options.output + " is written)");
+      throw io::UnusableFileError("--resume: no checkpoint " + checkpoint + " (it is removed once " + options.output +
+                                  " is written)");
     trainer.load_checkpoint(checkpoint);
     spdlog::info("resumed {} after epoch {}", checkpoint, trainer.epochs_done());
   }

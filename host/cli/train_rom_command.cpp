@@ -12,8 +12,10 @@
 #include <filesystem>
 
 #include "host/build_info.h"
+#include "host/cli/exit_codes.h"
 #include "host/run/interrupt.h"
 #include "kernels/core/error.h"
+#include "nn/io/unusable_file_error.h"
 #include "nn/rom/rom_checkpoint.h"
 #include "nn/rom/rom_dataset.h"
 #include "nn/rom/rom_model_file.h"
@@ -21,9 +23,6 @@
 
 namespace romp::cli {
 namespace {
-
-// README "Exit codes".
-constexpr int kExitInvalidInput = 3;
 
 std::string percent(double value) { return std::isnan(value) ? "n/a" : fmt::format("{:.3g}%", 100.0 * value); }
 
@@ -135,7 +134,7 @@ int train_rom_command(DeviceChoice choice, int threads, const TrainRomOptions& o
   nn::rom::RomDataset data;
   try {
     if (options.resume && !std::filesystem::exists(train.checkpoint))
-      throw Error("--resume: no checkpoint " + train.checkpoint + " (a run stopped early leaves one)");
+      throw io::UnusableFileError("--resume: no checkpoint " + train.checkpoint + " (a run stopped early leaves one)");
     data = nn::rom::load_rom_dataset(options.sweep_dir, {train.settings.encoder_points, train.settings.seed, device});
   } catch (const Error& error) {
     spdlog::error("{}", error.what());

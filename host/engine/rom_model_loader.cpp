@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "kernels/core/error.h"
+#include "nn/io/unusable_file_error.h"
 #include "nn/rom/fused_map.h"
 #include "nn/rom/rom_model_file.h"
 
@@ -13,7 +14,7 @@ LoadedReducedModel load_reduced_model(const std::string& path, const mpm::Partic
   const nn::rom::RomModel model = nn::rom::read_rom_model(path);
   const Index n = particles.count();
   if (model.training.particle_count != n)
-    throw Error(
+    throw io::UnusableFileError(
         fmt::format("model {} was trained on snapshots of {} material points; this scene samples {}. Run "
                     "the scene (and --set values) its training sweep ran",
                     path, model.training.particle_count, n));

@@ -8,13 +8,15 @@
 #include "host/scene/scene_parser.h"
 #include "kernels/core/error.h"
 #include "nn/io/snapshot_reader.h"
+#include "nn/io/unusable_file_error.h"
 
 namespace romp::nclaw {
 
 nn::diffmpm::DiffMpmConfig differentiable_config(const scene::Scene& s, const std::string& label) {
   const auto require = [&](bool condition, const std::string& what) {
     if (!condition)
-      throw Error(fmt::format("{}: its scene {}; the differentiable step cannot reproduce it", label, what));
+      throw io::UnusableFileError(
+          fmt::format("{}: its scene {}; the differentiable step cannot reproduce it", label, what));
   };
   require(s.fixed_dt > 0.0, "has no fixed [time] dt");
   require(s.transfer == "apic", "uses transfer '" + s.transfer + "', not 'apic'");
@@ -50,15 +52,15 @@ void check_frame(const io::FrameData& frame, int64_t k, const nn::diffmpm::DiffM
     const std::vector<float>& values = frame.field(field);
     for (std::size_t e = 0; e < values.size(); ++e)
       if (!std::isfinite(values[e]))
-        throw Error(fmt::format("{}: frame {}, {} of particle {}: {} is not finite", label, k,
-                                io::field_names(field).front(), e % n, values[e]));
+        throw io::UnusableFileError(fmt::format("{}: frame {}, {} of particle {}: {} is not finite", label, k,
+                                                io::field_names(field).front(), e % n, values[e]));
   }
   for (int a = 0; a < 3; ++a) {
     const double low = config.dx, high = double(config.domain_cells[std::size_t(a)] - 1) * config.dx;
     for (std::size_t p = 0; p < n; ++p) {
       const float x = frame.x[std::size_t(a) * n + p];
       if (!(x >= low && x <= high))
-        throw Error(
+        throw io::UnusableFileError(
             fmt::format("{}: frame {}, particle {}: x[{}] = {} is outside the domain's interior [{:.6g}, {:.6g}] m "
                         "(or not finite)",
                         label, k, p, a, x, low, high));
@@ -73,12 +75,12 @@ GroundTruth read_ground_truth(const std::string& path, int64_t last_frame) {
   const std::string label = "ground truth " + path;
   const io::FieldMask needed = io::kFieldX | io::kFieldV | io::kFieldF | io::kFieldC;
   if ((reader.fields() & needed) != needed)
-    throw Error(label + ": frames must hold x, v, F and C (the scene's [output] fields), found " +
-                fmt::format("{}", fmt::join(io::field_names(reader.fields()), ", ")));
+    throw io::UnusableFileError(label + ": frames must hold x, v, F and C (the scene's [output] fields), found " +
+                                fmt::format("{}", fmt::join(io::field_names(reader.fields()), ", ")));
   const int64_t frames = last_frame < 0 ? reader.frame_count() : last_frame + 1;
   if (frames < 2 || frames > reader.frame_count())
-    throw Error(fmt::format("{}: needs frames 0 to {}, the file has {} complete frames", label, frames - 1,
-                            reader.frame_count()));
+    throw io::UnusableFileError(fmt::format("{}: needs frames 0 to {}, the file has {} complete frames", label,
+                                            frames - 1, reader.frame_count()));
 
   GroundTruth truth;
   const scene::Scene scene = scene::parse_scene(reader.header().scene, path);
@@ -88,7 +90,7 @@ GroundTruth read_ground_truth(const std::string& path, int64_t last_frame) {
   data.reserve(size_t(frames));
   for (int64_t k = 0; k < frames; ++k) {
     if (reader.frame_step(k) != k)
-      throw Error(
+      throw io::UnusableFileError(
           fmt::format("{}: frame {} is after substep {}; training needs one frame per substep (frame_rate = 1/dt)",
                       label, k, reader.frame_step(k)));
     data.push_back(reader.read_frame(k));

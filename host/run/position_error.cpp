@@ -8,6 +8,7 @@
 
 #include "kernels/core/error.h"
 #include "nn/io/snapshot_reader.h"
+#include "nn/io/unusable_file_error.h"
 
 namespace romp::run {
 namespace {
@@ -49,26 +50,28 @@ PositionError compare_snapshots(const std::string& run, const std::string& refer
   const io::SnapshotReader a(run), b(reference);
   const std::string pair = fmt::format("{} against {}", run, reference);
   if (a.particle_count() != b.particle_count())
-    throw Error(fmt::format("{}: {} material points against {}; compare runs of the same scene and sampling", pair,
-                            a.particle_count(), b.particle_count()));
+    throw io::UnusableFileError(
+        fmt::format("{}: {} material points against {}; compare runs of the same scene and sampling", pair,
+                    a.particle_count(), b.particle_count()));
   if (a.header().X != b.header().X)
-    throw Error(
+    throw io::UnusableFileError(
         fmt::format("{}: the material points' reference positions differ; compare runs of the same scene "
                     "and sampling",
                     pair));
   if (first_frames <= 0 && a.frame_count() != b.frame_count())
-    throw Error(fmt::format("{}: {} frames against {} (--first-frames N compares the first N)", pair, a.frame_count(),
-                            b.frame_count()));
+    throw io::UnusableFileError(fmt::format("{}: {} frames against {} (--first-frames N compares the first N)", pair,
+                                            a.frame_count(), b.frame_count()));
   if (first_frames > std::min(a.frame_count(), b.frame_count()))
-    throw Error(fmt::format("{}: the first {} frames were asked for; the files hold {} and {}", pair, first_frames,
-                            a.frame_count(), b.frame_count()));
+    throw io::UnusableFileError(fmt::format("{}: the first {} frames were asked for; the files hold {} and {}", pair,
+                                            first_frames, a.frame_count(), b.frame_count()));
   const std::int64_t frames = first_frames > 0 ? first_frames : a.frame_count();
 
   PositionErrorAccumulator accumulator;
   for (std::int64_t frame = 0; frame < frames; ++frame) {
     const double t = a.frame_time(frame), t_reference = b.frame_time(frame);
     if (std::fabs(t - t_reference) > kTimeTolerance * std::fmax(1.0, std::fabs(t_reference)))
-      throw Error(fmt::format("{}: frame {} is at t = {} s against t = {} s", pair, frame, t, t_reference));
+      throw io::UnusableFileError(
+          fmt::format("{}: frame {} is at t = {} s against t = {} s", pair, frame, t, t_reference));
     accumulator.add_frame(t, a.read_frame(frame).x, b.read_frame(frame).x);
   }
   return accumulator.result();

@@ -145,8 +145,9 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
     }
     if (!init.domains.empty()) {
       if (checkpoint.corner_x.size() != 3 * std::size_t(init.domains.corner_count()))
-        throw Error(fmt::format("{}: holds {} domain corner positions, the scene's domains have {} corners",
-                                checkpoint_file, checkpoint.corner_x.size() / 3, init.domains.corner_count()));
+        throw io::UnusableFileError(
+            fmt::format("{}: holds {} domain corner positions, the scene's domains have {} corners", checkpoint_file,
+                        checkpoint.corner_x.size() / 3, init.domains.corner_count()));
       init.domains.resumed_corner_x = checkpoint.corner_x;
       init.domains.stiffening = checkpoint.domain_stiffening;
       init.domain = checkpoint.particle_domain;  // with the ones released since the start

@@ -12,6 +12,7 @@
 #include "nn/io/atomic_file.h"
 #include "nn/io/ply_export.h"
 #include "nn/io/snapshot_reader.h"
+#include "nn/io/unusable_file_error.h"
 #include "nn/io/xdmf.h"
 
 namespace romp::io {
@@ -132,22 +133,24 @@ SnapshotWriter SnapshotWriter::resume(std::string path, const SnapshotHeader& he
   {
     const SnapshotReader reader(partial);
     if (reader.particle_count() != header.particle_count()) {
-      throw Error(fmt::format("{}: holds {} particles, this run has {}; it belongs to another run", label,
-                              reader.particle_count(), header.particle_count()));
+      throw UnusableFileError(fmt::format("{}: holds {} particles, this run has {}; it belongs to another run", label,
+                                          reader.particle_count(), header.particle_count()));
     }
     if (reader.fields() != fields) {
-      throw Error(fmt::format("{}: holds the fields {}, this run writes {}", label,
-                              fmt::join(field_names(reader.fields()), ", "), fmt::join(field_names(fields), ", ")));
+      throw UnusableFileError(fmt::format("{}: holds the fields {}, this run writes {}", label,
+                                          fmt::join(field_names(reader.fields()), ", "),
+                                          fmt::join(field_names(fields), ", ")));
     }
     if (reader.header().scene != header.scene) {
-      throw Error(label + ": was written for another scene; remove it (or run without --resume) to start over");
+      throw UnusableFileError(label +
+                              ": was written for another scene; remove it (or run without --resume) to start over");
     }
     if (reader.header().parameter_names != header.parameter_names ||
         reader.header().parameter_values != header.parameter_values) {
-      throw Error(label + ": was written with other parameter values; remove it to start over");
+      throw UnusableFileError(label + ": was written with other parameter values; remove it to start over");
     }
     if (frame_count < 0 || frame_count > reader.frame_count()) {
-      throw Error(
+      throw UnusableFileError(
           fmt::format("{}: holds {} complete frames, the resume needs {}", label, reader.frame_count(), frame_count));
     }
     times.assign(reader.frame_times().begin(), reader.frame_times().begin() + frame_count);
@@ -158,7 +161,7 @@ SnapshotWriter SnapshotWriter::resume(std::string path, const SnapshotHeader& he
   hdf5::Group frames = file.open_group("/frames");
   for (const std::string& name : frames.list()) {
     const std::int64_t index = frame_index(name, "", "");
-    if (index < 0) throw Error(fmt::format("{}: group /frames/{} is not a frame", label, name));
+    if (index < 0) throw UnusableFileError(fmt::format("{}: group /frames/{} is not a frame", label, name));
     if (index >= frame_count) frames.remove(name);
   }
   file.write_attribute("frame_count", frame_count);

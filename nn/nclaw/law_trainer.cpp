@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "kernels/core/error.h"
+#include "nn/io/unusable_file_error.h"
 #include "nn/nclaw/evaluation.h"
 #include "nn/nclaw/training_schedule.h"
 #include "nn/nclaw/trajectory_loss.h"
@@ -125,15 +126,18 @@ void LawTrainer::load_checkpoint(const std::string& path) {
     archive.read("options", options);
     archive.read("losses", losses);
   } catch (const c10::Error& error) {
-    throw Error(label + ": not a readable checkpoint (" + error.what_without_backtrace() + ")");
+    throw io::UnusableFileError(label + ": not a readable checkpoint (" + error.what_without_backtrace() + ")");
   }
-  ROMP_CHECK(options.sizes() == options_fingerprint(options_).sizes() && options.equal(options_fingerprint(options_)),
-             label +
-                 ": written with other training options (epochs, steps, learning rates, clip, loss scale, "
-                 "teacher forcing, seed, checkpoint_every or velocity weight differ)");
-  ROMP_CHECK(
-      losses.dim() == 1 && losses.size(0) <= options_.epochs,
-      label + ": holds " + c10::str(losses.sizes()) + " losses for " + std::to_string(options_.epochs) + " epochs");
+  // A checkpoint of another training, or one whose record no training writes: the input's fault (exit 3).
+  if (!(options.sizes() == options_fingerprint(options_).sizes() && options.equal(options_fingerprint(options_)))) {
+    throw io::UnusableFileError(label +
+                                ": written with other training options (epochs, steps, learning rates, clip, loss "
+                                "scale, teacher forcing, seed, checkpoint_every or velocity weight differ)");
+  }
+  if (!(losses.dim() == 1 && losses.size(0) <= options_.epochs)) {
+    throw io::UnusableFileError(label + ": holds " + c10::str(losses.sizes()) + " losses for " +
+                                std::to_string(options_.epochs) + " epochs");
+  }
   try {
     archive.read("elastic", elastic);
     archive.read("plastic", plastic);
@@ -144,7 +148,8 @@ void LawTrainer::load_checkpoint(const std::string& path) {
     elastic_optimizer_->load(elastic_adam);
     plastic_optimizer_->load(plastic_adam);
   } catch (const c10::Error& error) {
-    throw Error(label + ": weights or optimizer state unreadable (" + error.what_without_backtrace() + ")");
+    throw io::UnusableFileError(label + ": weights or optimizer state unreadable (" + error.what_without_backtrace() +
+                                ")");
   }
   const torch::Tensor history = losses.to(torch::kFloat64).contiguous();
   losses_.assign(history.data_ptr<double>(), history.data_ptr<double>() + history.numel());

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "kernels/core/error.h"
+#include "nn/io/unusable_file_error.h"
 #include "nn/rom/adam.h"
 #include "nn/rom/rom_checkpoint.h"
 #include "nn/rom/rom_evaluation.h"
@@ -48,7 +49,8 @@ void check_resumable(const std::string& path, const RomCheckpoint& checkpoint, c
   if (differences.empty()) return;
   std::string list;
   for (const std::string& d : differences) list += "\n  " + d;
-  throw Error("checkpoint " + path + " is from another training run; resume with the same sweep and options:" + list);
+  throw io::UnusableFileError("checkpoint " + path +
+                              " is from another training run; resume with the same sweep and options:" + list);
 }
 
 // Batch of the training snapshots `index` [B] with material points `points` [B, p] each.
