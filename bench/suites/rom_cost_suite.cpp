@@ -23,15 +23,18 @@
 namespace romp::bench {
 namespace {
 
-// The reduced setups timed: the paper's real-time pair (Eulerian, velocity-only), its position-velocity
-// variant, and Lagrangian velocity-only, which decodes every point to find the samples' neighbours.
+// The reduced setups timed: the paper's real-time pair (Eulerian, velocity-only), the same with every
+// inversion started from the cell's sample (no warm starts: what they save), its position-velocity variant,
+// and Lagrangian velocity-only, which decodes every point to find the samples' neighbours.
 struct CostCase {
   engine::RomQuadrature quadrature;
   engine::RomProjection projection;
   const char* name;
+  bool warm_start = true;
 };
 constexpr CostCase kCases[] = {
     {engine::RomQuadrature::Eulerian, engine::RomProjection::Velocity, "eulerian_velocity"},
+    {engine::RomQuadrature::Eulerian, engine::RomProjection::Velocity, "eulerian_velocity_cold", false},
     {engine::RomQuadrature::Eulerian, engine::RomProjection::PositionVelocity, "eulerian_position"},
     {engine::RomQuadrature::Lagrangian, engine::RomProjection::Velocity, "lagrangian_velocity"},
 };
@@ -80,6 +83,7 @@ void run_rom_cost_suite(Context& context) {
         reduced.quadrature = c.quadrature;
         reduced.projection = c.projection;
         reduced.samples = Index(samples);
+        reduced.warm_start_inversion = c.warm_start;
         engine::ReducedSim sim(exec, setup.config, setup.particles, map, std::vector<float>(6, 0.0f), reduced);
         const float dt = sim.stable_dt();
         const std::string name =
@@ -100,16 +104,17 @@ void run_rom_cost_suite(Context& context) {
           // What inverting g costs per point: evaluations of g, those with both Jacobians (each three
           // reverse sweeps more), and the quasi-Newton iterations.
           const double points = double(sim.eulerian_points());
-          const double per_point[3] = {double(sim.eulerian_map_evaluations()) / points,
-                                       double(sim.eulerian_jacobian_evaluations()) / points,
-                                       double(sim.inversion_iterations()) / points};
+          const double per_point[4] = {
+              double(sim.eulerian_map_evaluations()) / points, double(sim.eulerian_jacobian_evaluations()) / points,
+              double(sim.inversion_iterations()) / points, double(sim.eulerian_warm_starts()) / points};
           context.record(key + ".map_evaluations_per_eulerian_point", per_point[0]);
           context.record(key + ".jacobian_evaluations_per_eulerian_point", per_point[1]);
           context.record(key + ".inversion_iterations_per_eulerian_point", per_point[2]);
+          context.record(key + ".warm_started_share", per_point[3]);
           evaluations = fmt::format(
               "; per Eulerian point and substep: {:.2f} evaluations of g ({:.2f} with the "
-              "Jacobians), {:.2f} iterations",
-              per_point[0], per_point[1], per_point[2]);
+              "Jacobians), {:.2f} iterations, {:.0f} % warm-started",
+              per_point[0], per_point[1], per_point[2], 100.0 * per_point[3]);
         }
         if (c.projection == engine::RomProjection::PositionVelocity) {
           // Each linearisation evaluates g and ∂g/∂x̂ at the samples, inside one block on CUDA.

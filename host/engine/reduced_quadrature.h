@@ -22,6 +22,7 @@
 #include "kernels/core/index_select.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/rom/eulerian_quadrature.h"
+#include "kernels/rom/eulerian_warm_start.h"
 #include "kernels/rom/sample_neighbourhood.h"
 
 namespace romp::engine {
@@ -86,6 +87,9 @@ struct EulerianSettings {
   rom::EulerianLattice lattice;     // dx, ℓ, the domain's cells, pruning
   rom::InversionOptions inversion;  // iterations and tolerance (m) of g's inversion
   std::vector<float> densities;     // ρ₀ per material (kg/m³)
+  // Start the inversion of a point whose place was inverted in the last build from that solution
+  // (kernels/rom/eulerian_warm_start.h) instead of g linearised at the cell's sample.
+  bool warm_start = true;
 };
 
 class EulerianQuadrature final : public ReducedQuadrature {
@@ -115,6 +119,18 @@ class EulerianQuadrature final : public ReducedQuadrature {
   DeviceBuffer<std::int32_t> used_index_;
   DeviceBuffer<std::int32_t> inversion_iterations_, map_evaluations_, jacobian_evaluations_;
   DeviceBuffer<float> guesses_, guess_jacobians_;  // each point's first X and ∂g/∂X there
+  DeviceBuffer<std::uint64_t> place_cells_;        // each point's place: its cell and index in the cell
+  DeviceBuffer<std::int32_t> place_subs_;
+  // The last build's places, statuses, solutions (X, F, v) and x̂, v̂, kept for the next build's warm starts.
+  DeviceBuffer<std::uint64_t> last_cells_;
+  DeviceBuffer<std::int32_t> last_subs_, last_status_;
+  DeviceBuffer<float> last_X_, last_v_, last_F_, last_xhat_, last_vhat_;
+  Index last_count_ = -1;  // −1: no build yet
+
+  // The last build's points as warm starts read them.
+  rom::Inversions last_inversions() const;
+  // Keeps this build's `count` points and x̂, v̂ for the next build.
+  void keep_for_warm_starts(const Exec& exec, Index count, Span<const float> xhat, Span<const float> vhat);
   rom::SampleNeighbourhood neighbourhood_;
   IndexSelector select_;
 };

@@ -82,9 +82,16 @@ mpm::ParticleView EulerianQuadrature::build(const Exec& exec, const DeformationM
   jacobian_evaluations_.ensure_size(exec.backend, count);
   guesses_.ensure_size(exec.backend, 3 * count);
   guess_jacobians_.ensure_size(exec.backend, 9 * count);
+  place_cells_.ensure_size(exec.backend, count);
+  place_subs_.ensure_size(exec.backend, count);
   const Vec3Planes<float> guess(guesses_.data(), count);
   const Mat3Planes<float> guess_jacobian(guess_jacobians_.data(), count);
-  neighbourhood_.write_eulerian_points(exec, Vec3Planes<float>(points_.x.data(), count), guess, guess_jacobian);
+  neighbourhood_.write_eulerian_points(exec, Vec3Planes<float>(points_.x.data(), count), guess, guess_jacobian,
+                                       place_cells_.prefix(count), place_subs_.prefix(count));
+  if (settings_.warm_start && last_count_ >= 0) {
+    rom::warm_start_inversions(exec, last_inversions(), xhat, place_cells_.prefix(count), place_subs_.prefix(count),
+                               guess, guess_jacobian, tally_.span());
+  }
   const float dx = settings_.lattice.dx;
   const int l = settings_.lattice.points_per_cell;
   const rom::EulerianPointsOut out{Vec3Planes<float>(points_.X.data(), count),
@@ -101,12 +108,52 @@ mpm::ParticleView EulerianQuadrature::build(const Exec& exec, const DeformationM
                            settings_.inversion, Vec3Planes<const float>(points_.x.data(), count),
                            Vec3Planes<const float>(guess), Mat3Planes<const float>(guess_jacobian), out);
   rom::tally_quadrature(exec, out, count, tally_.span());
+  if (settings_.warm_start) keep_for_warm_starts(exec, count, xhat, vhat);
   // Points outside the body (or unconverged) carry no mass; P2G would evaluate a stress and activate
   // grid blocks for each of them, so the used points are gathered into a set of their own, P2G's.
   used_index_.ensure_size(exec.backend, count);
   const Index used = select_(exec, points_.status.prefix(count), rom::kQuadratureUsed, used_index_.span());
   used_.gather_from(exec, points_, used_index_.prefix(used));
   return used_.view();
+}
+
+rom::Inversions EulerianQuadrature::last_inversions() const {
+  const Index n = last_count_;
+  return {last_cells_.prefix(n),
+          last_subs_.prefix(n),
+          last_status_.prefix(n),
+          Vec3Planes<const float>(last_X_.data(), n),
+          Vec3Planes<const float>(last_v_.data(), n),
+          Mat3Planes<const float>(last_F_.data(), n),
+          last_xhat_.span(),
+          last_vhat_.span()};
+}
+
+void EulerianQuadrature::keep_for_warm_starts(const Exec& exec, Index count, Span<const float> xhat,
+                                              Span<const float> vhat) {
+  last_cells_.ensure_size(exec.backend, count);
+  last_subs_.ensure_size(exec.backend, count);
+  last_status_.ensure_size(exec.backend, count);
+  last_X_.ensure_size(exec.backend, 3 * count);
+  last_v_.ensure_size(exec.backend, 3 * count);
+  last_F_.ensure_size(exec.backend, 9 * count);
+  if (last_xhat_.size() != xhat.size()) {  // the map's r values in every build: sized once
+    last_xhat_ = DeviceBuffer<float>(exec.backend, xhat.size());
+    last_vhat_ = DeviceBuffer<float>(exec.backend, vhat.size());
+  }
+  const rom::Inversions now{place_cells_.prefix(count),
+                            place_subs_.prefix(count),
+                            points_.status.prefix(count),
+                            Vec3Planes<const float>(points_.X.data(), count),
+                            Vec3Planes<const float>(points_.v.data(), count),
+                            Mat3Planes<const float>(points_.F.data(), count),
+                            xhat,
+                            vhat};
+  rom::keep_inversions(exec, now,
+                       {last_cells_.prefix(count), last_subs_.prefix(count), last_status_.prefix(count),
+                        Vec3Planes<float>(last_X_.data(), count), Vec3Planes<float>(last_v_.data(), count),
+                        Mat3Planes<float>(last_F_.data(), count), last_xhat_.span(), last_vhat_.span()});
+  last_count_ = count;
 }
 
 std::pair<std::int64_t, std::string> EulerianQuadrature::describe(const Exec& exec, std::int64_t slot) const {

@@ -53,6 +53,7 @@ EulerianSettings eulerian_settings(const FullOrderConfig& config, const ReducedO
   settings.lattice.prune = options.neighbour_search != NeighbourSearch::Never;
   settings.inversion.iterations = options.inversion_iterations;
   settings.inversion.tolerance = options.inversion_tolerance * config.dx;
+  settings.warm_start = options.warm_start_inversion;
   for (const MaterialSpec& m : config.materials) settings.densities.push_back(m.density);
   return settings;
 }

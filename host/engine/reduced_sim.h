@@ -59,6 +59,8 @@ struct ReducedOptions {
   // inversion_tolerance × dx.
   int inversion_iterations = 20;
   float inversion_tolerance = 1e-4f;
+  // Start a point's inversion from its place's last solution (kernels/rom/eulerian_warm_start.h).
+  bool warm_start_inversion = true;
   // > 0: the substeps' CFL number instead of the scene's time.cfl, in (0, 1] (a hyper-reduced run may
   // need a smaller step than the full-order runs its map was trained on).
   double cfl = 0.0;
@@ -120,6 +122,8 @@ class ReducedSim {
   // Evaluations of g at the Eulerian points so far, and those of them that also gave both Jacobians.
   std::int64_t eulerian_map_evaluations() const { return quadrature_tally().evaluations; }
   std::int64_t eulerian_jacobian_evaluations() const { return quadrature_tally().jacobian_evaluations; }
+  // Eulerian points whose inversion started from their place's last solution, so far.
+  std::int64_t eulerian_warm_starts() const { return quadrature_tally().warm_starts; }
   // Eulerian points inverted so far (used, outside or unconverged), summed over the substeps.
   std::int64_t eulerian_points() const {
     const rom::QuadratureTally tally = quadrature_tally();

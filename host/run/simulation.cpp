@@ -106,10 +106,12 @@ class ReducedRun final : public Simulation {
     if (points > 0)
       lines.push_back(fmt::format(
           "Eulerian quadrature: {} points, {} used, {} outside the body, {} whose inversion "
-          "of g did not converge; {} inversion iterations ({:.2f} per point used)",
+          "of g did not converge; {} inversion iterations ({:.2f} per point used), {} started from their "
+          "place's last solution",
           points, sim_.quadrature_points_used(), sim_.quadrature_points_outside(), sim_.quadrature_points_unconverged(),
           sim_.inversion_iterations(),
-          double(sim_.inversion_iterations()) / double(std::max<std::int64_t>(sim_.quadrature_points_used(), 1))));
+          double(sim_.inversion_iterations()) / double(std::max<std::int64_t>(sim_.quadrature_points_used(), 1)),
+          sim_.eulerian_warm_starts()));
     return lines;
   }
 

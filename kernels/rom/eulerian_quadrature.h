@@ -99,6 +99,7 @@ struct QuadratureTally {
   std::int64_t points[3] = {0, 0, 0};
   std::int64_t iterations = 0;
   std::int64_t evaluations = 0, jacobian_evaluations = 0;
+  std::int64_t warm_starts = 0;  // points that started from their place's last inversion (eulerian_warm_start.h)
   double last_mass = 0.0;
 };
 

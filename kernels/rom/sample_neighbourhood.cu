@@ -65,6 +65,8 @@ struct EulerianCandidate {
   float dx;
   Vec3Planes<float> x, X_guess;
   Mat3Planes<float> F_guess;
+  Span<std::uint64_t> place_cell;
+  Span<std::int32_t> place_sub;
   Span<std::int32_t> keep;
 
   ROMP_HD void operator()(Index t) const {
@@ -98,6 +100,8 @@ struct EulerianCandidate {
     Vec3<double> step = offset;
     solve_where_positive(F_d, offset, step);
     x.store(t, point);
+    place_cell[t] = key;
+    place_sub[t] = sub_index;
     X_guess.store(
         t, Vec3<float>(float(sample_X[0] + step[0]), float(sample_X[1] + step[1]), float(sample_X[2] + step[2])));
     F_guess.store(t, F);
@@ -145,23 +149,28 @@ Index SampleNeighbourhood::build_eulerian_points(const Exec& exec, Vec3Planes<co
   const int l = lattice.points_per_cell;
   const Index candidates = cells * l * l * l;
   candidates_.ensure_size(exec.backend, 15 * candidates);
+  candidate_cells_.ensure_size(exec.backend, candidates);
+  candidate_subs_.ensure_size(exec.backend, candidates);
   flags_.ensure_size(exec.backend, candidates);
   kept_.ensure_size(exec.backend, candidates);
   float* base = candidates_.data();
   for_each(exec, candidates,
            EulerianCandidate{cell_keys, cell_samples, chosen_.prefix(cells), near, X, x, F, l, lattice.dx,
                              Vec3Planes<float>(base, candidates), Vec3Planes<float>(base + 3 * candidates, candidates),
-                             Mat3Planes<float>(base + 6 * candidates, candidates), flags_.prefix(candidates)});
+                             Mat3Planes<float>(base + 6 * candidates, candidates), candidate_cells_.prefix(candidates),
+                             candidate_subs_.prefix(candidates), flags_.prefix(candidates)});
   candidate_count_ = candidates;
   kept_count_ = select_(exec, flags_.prefix(candidates), 1, kept_.span());
   return kept_count_;
 }
 
 void SampleNeighbourhood::write_eulerian_points(const Exec& exec, Vec3Planes<float> x, Vec3Planes<float> X_guess,
-                                                Mat3Planes<float> F_guess) const {
+                                                Mat3Planes<float> F_guess, Span<std::uint64_t> place_cell,
+                                                Span<std::int32_t> place_sub) const {
   const Index n = kept_count_, c = candidate_count_;
-  ROMP_CHECK(x.count() == n && X_guess.count() == n && F_guess.count() == n,
-             "write_eulerian_points: room for exactly the points of the last build");
+  ROMP_CHECK(
+      x.count() == n && X_guess.count() == n && F_guess.count() == n && place_cell.size() == n && place_sub.size() == n,
+      "write_eulerian_points: room for exactly the points of the last build");
   const float* base = candidates_.data();
   const Span<const std::int32_t> kept = kept_.prefix(n);
   for_each(exec, n, GatherPlanes<float>{Span<const float>(base, 3 * c), c, Span<float>(x.data(), 3 * n), kept, 3});
@@ -169,6 +178,8 @@ void SampleNeighbourhood::write_eulerian_points(const Exec& exec, Vec3Planes<flo
            GatherPlanes<float>{Span<const float>(base + 3 * c, 3 * c), c, Span<float>(X_guess.data(), 3 * n), kept, 3});
   for_each(exec, n,
            GatherPlanes<float>{Span<const float>(base + 6 * c, 9 * c), c, Span<float>(F_guess.data(), 9 * n), kept, 9});
+  for_each(exec, n, GatherPlanes<std::uint64_t>{candidate_cells_.prefix(c), c, place_cell, kept, 1});
+  for_each(exec, n, GatherPlanes<std::int32_t>{candidate_subs_.prefix(c), c, place_sub, kept, 1});
 }
 
 }  // namespace romp::rom

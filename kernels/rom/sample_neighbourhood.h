@@ -42,16 +42,21 @@ class SampleNeighbourhood {
   // returns their count (two downloads: the cells' and the points' counts).
   Index build_eulerian_points(const Exec& exec, Vec3Planes<const float> X, Vec3Planes<const float> x,
                               Mat3Planes<const float> F, const EulerianLattice& lattice);
-  // Writes the points of the last build, count of each: positions, first guesses of X and of ∇_X g.
+  // Writes the points of the last build, count of each: positions, first guesses of X and of ∇_X g, and
+  // each point's place (its cell's key and its index among the cell's ℓ³ points), which increase
+  // together: (cell, sub) in lexicographic order.
   void write_eulerian_points(const Exec& exec, Vec3Planes<float> x, Vec3Planes<float> X_guess,
-                             Mat3Planes<float> F_guess) const;
+                             Mat3Planes<float> F_guess, Span<std::uint64_t> place_cell,
+                             Span<std::int32_t> place_sub) const;
 
  private:
   PairSorter sort_near_, sort_cells_;
   IndexSelector select_;
   DeviceBuffer<std::uint64_t> keys_;
   DeviceBuffer<std::int32_t> samples_, flags_, chosen_, kept_;
-  DeviceBuffer<float> candidates_;  // per candidate point: x (3 planes), X guess (3), F guess (9)
+  DeviceBuffer<float> candidates_;               // per candidate point: x (3 planes), X guess (3), F guess (9)
+  DeviceBuffer<std::uint64_t> candidate_cells_;  // and its place: cell key and index in the cell
+  DeviceBuffer<std::int32_t> candidate_subs_;
   Index candidate_count_ = 0, kept_count_ = 0;
 };
 

@@ -253,6 +253,38 @@ TEST(ReducedSim, EulerianQuadratureReproducesTheFullOrderTranslation) {
   EXPECT_LT(largest_difference(full_order_positions(), reduced_positions(eulerian)), kTrajectoryTolerance);
 }
 
+// Warm starts (kernels/rom/eulerian_warm_start.h): a point whose place was inverted in the last substep starts
+// from that solution. Under a map that deforms the body and moves with x̂, with every point sampled so that the
+// places persist, they take fewer evaluations of g than starts from the cells' samples (measured: 9 % fewer),
+// and they change the trajectory less than halving the inversion's tolerance does (measured after 40 substeps:
+// 0.95 µm against 1.9 µm): both stop within the tolerance, at other points of it.
+TEST(ReducedSim, WarmStartsSaveEvaluationsAndKeepTheTrajectoryWithinTheTolerance) {
+  struct Run {
+    std::vector<float> positions;
+    double evaluations_per_point = 0.0;
+    std::int64_t warm_starts = 0, unconverged = 0;
+  };
+  const auto run = [](bool warm_start, float tolerance) {
+    engine::ReducedOptions options;
+    options.quadrature = engine::RomQuadrature::Eulerian;
+    options.warm_start_inversion = warm_start;
+    options.inversion_tolerance = tolerance;
+    engine::ReducedSim sim(test::exec(), falling_config(), cube(), test::small_nonlinear_map(0.375f, 0.25f, 0.01f),
+                           {0.0f, 0.0f, 0.0f}, options);
+    for (int s = 0; s < 40; ++s) sim.substep(kDt);
+    return Run{sim.decode_positions(), double(sim.eulerian_map_evaluations()) / double(sim.quadrature_points_used()),
+               sim.eulerian_warm_starts(), sim.quadrature_points_unconverged()};
+  };
+  const Run cold = run(false, 1e-4f), warm = run(true, 1e-4f), half_tolerance = run(false, 5e-5f);
+  EXPECT_EQ(cold.warm_starts, 0);
+  EXPECT_GT(warm.warm_starts, 0);
+  EXPECT_EQ(warm.unconverged, 0);
+  EXPECT_LT(warm.evaluations_per_point, 0.95 * cold.evaluations_per_point);
+  const float tolerance_spread = largest_difference(half_tolerance.positions, cold.positions);
+  EXPECT_GT(tolerance_spread, 0.0f);  // the comparison is not of identical runs
+  EXPECT_LE(largest_difference(warm.positions, cold.positions), tolerance_spread);
+}
+
 TEST(ReducedSim, EulerianQuadratureWeighsTheBodyAndDropsPointsOutsideIt) {
   // At x̂ = 0 the map is the identity, and ℓ = 2 points per cell of a lattice body sampled at 2 per
   // cell sit exactly on its material points: the quadrature mass is the body's mass.

@@ -125,14 +125,23 @@ std::multiset<Point> device_points(SampleNeighbourhood& neighbourhood, const Sam
                                                       Vec3Planes<const float>(x.data(), s.m),
                                                       Mat3Planes<const float>(F.data(), s.m), lattice);
   DeviceBuffer<float> out(exec.backend, 15 * n);
+  DeviceBuffer<std::uint64_t> place_cell(exec.backend, n);
+  DeviceBuffer<std::int32_t> place_sub(exec.backend, n);
   neighbourhood.write_eulerian_points(exec, Vec3Planes<float>(out.data(), n), Vec3Planes<float>(out.data() + 3 * n, n),
-                                      Mat3Planes<float>(out.data() + 6 * n, n));
+                                      Mat3Planes<float>(out.data() + 6 * n, n), place_cell.span(), place_sub.span());
   const std::vector<float> host = out.to_host(exec.stream);
+  const std::vector<std::uint64_t> cells = place_cell.to_host(exec.stream);
+  const std::vector<std::int32_t> subs = place_sub.to_host(exec.stream);
   std::multiset<Point> points;
   for (Index q = 0; q < n; ++q) {
     Point p;
     for (int e = 0; e < 15; ++e) p[e] = host[e * n + q];
     points.insert(p);
+    // The place names the point: x = (cell + (sub's digit + ½) / ℓ) dx per axis, and places increase.
+    const int cell[3] = {int(cells[q] >> 42), int((cells[q] >> 21) & 0x1fffff), int(cells[q] & 0x1fffff)};
+    const int digit[3] = {subs[q] / (l * l), subs[q] / l % l, subs[q] % l};
+    for (int a = 0; a < 3; ++a) EXPECT_FLOAT_EQ(p[a], float((cell[a] + (digit[a] + 0.5) / l) * kDx)) << q;
+    if (q > 0) EXPECT_TRUE(cells[q - 1] < cells[q] || (cells[q - 1] == cells[q] && subs[q - 1] < subs[q])) << q;
   }
   return points;
 }
