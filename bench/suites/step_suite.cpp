@@ -24,7 +24,22 @@ struct StepCase {
 };
 
 // The body is resampled so that it holds about `particles` particles at 2 per cell per axis.
-engine::FullOrderSim make_sim(const Exec& exec, const StepCase& c, Index particles, engine::P2GKernel p2g) {
+// The P2G kernels timed, and how often the particles are sorted by block: every substep (the H200 baseline's
+// setting), and every kSortEveryOnCuda substeps with the tiled kernel (particles that left their block since
+// go straight to the grid).
+struct StepVariant {
+  engine::P2GKernel p2g;
+  int sort_every;
+  const char* name;
+};
+constexpr StepVariant kVariants[] = {
+    {engine::P2GKernel::Portable, 1, "portable"},
+    {engine::P2GKernel::Tiled, 1, "tiled"},
+    {engine::P2GKernel::Tiled, engine::kSortEveryOnCuda, "tiled_sort4"},
+};
+static_assert(engine::kSortEveryOnCuda == 4, "the variant's name says how often it sorts");
+
+engine::FullOrderSim make_sim(const Exec& exec, const StepCase& c, Index particles, const StepVariant& variant) {
   const Vec3<float> extent = c.high - c.low;
   const float volume = extent[0] * extent[1] * extent[2];
   const float spacing = std::cbrt(volume / float(particles));
@@ -34,7 +49,8 @@ engine::FullOrderSim make_sim(const Exec& exec, const StepCase& c, Index particl
   const std::int32_t cells = std::int32_t(std::ceil(1.0f / dx));
   config.domain_cells = {cells, cells, cells};
   config.materials = {scene::nclaw_material(c.material)};
-  config.p2g = p2g;
+  config.p2g = variant.p2g;
+  config.sort_every = variant.sort_every;
   const geometry::SamplingSpec lattice{geometry::SamplingMethod::Lattice, kParticlesPerCellPerAxis, dx};
   mpm::ParticleInit init = geometry::sample_box(c.low, c.high, lattice, config.materials[0].density);
   for (Index p = 0; p < init.count(); ++p)
@@ -55,11 +71,11 @@ void run_step_suite(Context& context) {
     const int substeps = nominal >= 1000000 ? 2 : 10;
     for (const StepCase& c : cases)
       for (const Exec& exec : context.execs())
-        for (const engine::P2GKernel p2g : {engine::P2GKernel::Portable, engine::P2GKernel::Tiled}) {
-          engine::FullOrderSim sim = make_sim(exec, c, particles, p2g);
+        for (const StepVariant& variant : kVariants) {
+          engine::FullOrderSim sim = make_sim(exec, c, particles, variant);
           const float dt = sim.stable_dt();
           const Index n = sim.particles().count();
-          const std::string kernel = p2g == engine::P2GKernel::Tiled ? "tiled" : "portable";
+          const std::string kernel = variant.name;
           const Measurement& m = context.time(
               "step", fmt::format("{}_{}k_{}", c.name, nominal / 1000, kernel), exec, n * substeps, "particle-substep",
               [&] {

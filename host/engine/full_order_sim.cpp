@@ -25,6 +25,9 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
       stage_timeline_(exec) {
   check_particle_tables(config_, init.material, init.dirichlet_group);
   check_particle_domains(config_, init);
+  ROMP_CHECK(config_.sort_every >= 0,
+             fmt::format("sort_every must be >= 0 (0: the backend's choice), got {}", config_.sort_every));
+  sort_every_ = config_.sort_every > 0 ? config_.sort_every : exec.is_cuda() ? kSortEveryOnCuda : 1;
   if (!init.domains.empty()) domains_.emplace(exec.backend, init.domains);
   released_.assign(config_.dirichlet.size(), false);
   if (config_.integrator == Integrator::Implicit) implicit_.emplace(exec.backend, config_.implicit);
@@ -78,7 +81,12 @@ void FullOrderSim::substep(float dt) {
 
   StageClock timed(stage_timeline_);
   const float inverse_dx = 1.0f / config_.dx;
-  timed([&] { particles_.sort_by_block(exec_, inverse_dx); });
+  // The stage runs empty between sorts, so the stage table keeps its rows.
+  const bool sort_now = !sorted_ || steps_ % sort_every_ == 0;
+  timed([&] {
+    if (sort_now) particles_.sort_by_block(exec_, inverse_dx);
+  });
+  sorted_ = true;
   const mpm::ParticleView particles = particles_.view();
   const mpm::DomainView domains = domains_ ? domains_->view() : mpm::DomainView{};
   timed([&] { grid_.rebuild(exec_, Vec3Planes<const float>(particles.x), Vec3Planes<const float>(domains.x)); });
@@ -86,7 +94,8 @@ void FullOrderSim::substep(float dt) {
   if (neural_) timed([&] { step.host_stress = neural_->evaluate_stress(exec_, particles); });
   timed([&] {
     if (config_.p2g == P2GKernel::Tiled)
-      mpm::particle_to_grid_tiled(exec_, particles, grid, step, particles_.block_starts());
+      mpm::particle_to_grid_tiled(exec_, particles, grid, step, particles_.block_starts(),
+                                  particles_.sorted_block_keys(), sort_now);
     else
       mpm::particle_to_grid(exec_, particles, grid, step);
   });

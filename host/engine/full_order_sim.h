@@ -98,6 +98,10 @@ class FullOrderSim {
   // The particles' largest speed at the end of the last substep, read back with its failure slots, for
   // the next CFL step; empty before the first substep and after particles() was handed out.
   std::optional<float> last_particle_speed_;
+  // Substeps between block sorts (config.sort_every resolved for the backend; the sort falls on steps that
+  // are multiples of it, and on a simulation's first substep), and whether a sort has run.
+  int sort_every_ = 1;
+  bool sorted_ = false;
   std::optional<ImplicitGridSolver> implicit_;  // with Integrator::Implicit only
   std::unique_ptr<NeuralMaterials> neural_;     // when some material is a learned law
   std::optional<TracerSet> tracers_;

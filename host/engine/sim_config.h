@@ -81,11 +81,20 @@ struct ImplicitSolverConfig {
   std::int32_t max_iterations = 1000;
 };
 
+// Substeps between block sorts on CUDA when the scene leaves it open: the sort and the permutation of every
+// particle array are about half of a substep's bytes (bench/results/gpu-notes.md), and a particle takes
+// several substeps to cross a 4-node block at a CFL step.
+inline constexpr int kSortEveryOnCuda = 4;
+
 // The domain, grid, walls, gravity and time stepping (mpm::DomainConfig), then the engine's own.
 struct FullOrderConfig : mpm::DomainConfig<float> {
   mpm::Transfer transfer = mpm::Transfer::Apic;
   float flip_alpha = 0.95f;
   P2GKernel p2g = P2GKernel::Tiled;
+  // Substeps between sorts of the particles by grid block (≥ 1; 0: the backend's choice, 1 on the CPU, where
+  // a run resumed from a checkpoint must sum in the uninterrupted run's order, and kSortEveryOnCuda there).
+  // Between sorts the tiled P2G sends particles that left their block straight to the grid.
+  int sort_every = 0;
   // Particle domains: corners of particles whose deformation quality (particle_domains.h) is at most
   // this become degrees of freedom of their own (dynamic enrichment); 0 turns enrichment off.
   float enrichment_threshold = 0.6f;

@@ -4,11 +4,13 @@
 
 #include "kernels/core/atomic.h"
 #include "kernels/material/material.h"
+#include "kernels/math/atomic_planes.h"
 #include "kernels/math/finite.h"
 #include "kernels/mpm/bspline.h"
 #include "kernels/mpm/mls_transfer.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
+#include "kernels/mpm/stencil_nodes.h"
 #include "kernels/mpm/step.h"
 
 namespace romp::mpm {
@@ -42,5 +44,22 @@ struct P2GParticle {
     return node_momentum(w, momentum, affine, stencil.offset(i, j, k, dx));
   }
 };
+
+// Adds a particle's mass and momentum to its 27 stencil nodes of the grid with atomics: the portable kernel's
+// scatter, and the tiled kernel's for a particle that has left the block it was sorted into.
+ROMP_HD inline void scatter_to_grid(const P2GParticle& particle, const GridView& grid) {
+  const bool flip = grid.keeps_old_velocity();
+  const StencilNodes nodes(particle.stencil, grid.table);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) {
+        const float w = particle.weight(i, j, k);
+        const Index n = nodes.node(i, j, k);
+        atomic_add(&grid.mass[n], w * particle.mass);
+        atomic_add(grid.velocity, n, particle.momentum_to(i, j, k, w, grid.dx));
+        // FLIP needs the transferred velocity without this step's forces.
+        if (flip) atomic_add(grid.velocity_old, n, (w * particle.mass) * particle.v);
+      }
+}
 
 }  // namespace romp::mpm

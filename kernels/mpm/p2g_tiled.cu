@@ -1,6 +1,11 @@
 // Tiled P2G: the particles of one grid block (a run after sort_by_block) scatter into a local tile of
 // the 6 × 6 × 6 nodes their stencils can reach, and the tile is added to the grid once (GPU MPM, Gao et
 // al. 2018). A block of 512 particles then makes 216 × 4 grid atomics instead of 27 × 4 per particle.
+// The sort need not be this substep's: a particle that has since left its run's block (its stencil would
+// leave the tile) is skipped by the tiles and scattered straight to the grid by a second launch, as the
+// portable kernel does, so the order only decides how many particles take the fast path. (The fallback
+// inside the tile kernel cost it 47 registers and 56 bytes of stack more: the portable scatter's 27 node
+// lookups live beside the tile's state.)
 // The CPU runs one block per loop iteration with plain adds into the tile; CUDA runs one thread block
 // per grid block with the tile in shared memory. Both share the tile arithmetic below with each other
 // and the per-particle arithmetic (P2GParticle) with the portable kernel.
@@ -35,15 +40,26 @@ ROMP_HD_INLINE void tile_add(float* entry, float value) {
   *entry += value;
 }
 
-// The first node of the block that holds particle p's stencil base: the tile's origin.
-ROMP_HD_INLINE void tile_origin(const QuadraticStencil<float>& stencil, int origin[3]) {
-  for (int a = 0; a < 3; ++a) origin[a] = (stencil.base[a] / kBlockSide) * kBlockSide;
+// The first node of the block a run was sorted into (its key): the tile's origin.
+ROMP_HD_INLINE void tile_origin(std::uint64_t block, int origin[3]) {
+  for (int a = 0; a < 3; ++a) origin[a] = block_coordinate(block, a) * kBlockSide;
+}
+
+// Whether the particle at x has its stencil's base node outside the block whose first node is `origin`:
+// it has moved to another block since the sort, and its stencil may leave the tile.
+ROMP_HD_INLINE bool left_block(const Vec3<float>& x, float inverse_dx, const int origin[3]) {
+  for (int a = 0; a < 3; ++a) {
+    const int d = int(x[a] * inverse_dx - 0.5f) - origin[a];  // QuadraticStencil's base
+    if (d < 0 || d >= kBlockSide) return true;
+  }
+  return false;
 }
 
 template <bool kShared>
 ROMP_HD void scatter_to_tile(const ParticleView& particles, const GridView& grid, const StepParams& step, Index p,
                              const int origin[3], float* tile) {
-  if (particles.has_domain(p)) return;  // its domain's corners carry it to the grid
+  if (particles.has_domain(p)) return;                                   // its domain's corners carry it to the grid
+  if (left_block(particles.x.load(p), grid.inverse_dx, origin)) return;  // MovedParticleToGrid adds it
   const P2GParticle particle(particles, grid, step, p);
   const bool flip = grid.keeps_old_velocity();
   const int di = particle.stencil.base[0] - origin[0], dj = particle.stencil.base[1] - origin[1],
@@ -85,14 +101,31 @@ struct TiledBlockToGrid {
   GridView grid;
   StepParams step;
   Span<const std::int32_t> starts;
+  Span<const std::uint64_t> sorted_keys;
   void operator()(Index block) const {
     float tile[kTilePlanes * kTileNodes] = {};
     const Index begin = starts[block], end = starts[block + 1];
     int origin[3];
-    tile_origin(QuadraticStencil<float>(particles.x.load(begin), grid.inverse_dx), origin);
+    tile_origin(sorted_keys[begin], origin);
     for (Index p = begin; p < end; ++p) scatter_to_tile<false>(particles, grid, step, p, origin, tile);
     const bool flip = grid.keeps_old_velocity();
     for (int node = 0; node < kTileNodes; ++node) flush_tile_node(grid, flip, origin, tile, node);
+  }
+};
+
+// The particles the tiles skipped, with the portable kernel's scatter: one thread per particle, most of them
+// returning after reading their position and key.
+struct MovedParticleToGrid {
+  ParticleView particles;
+  GridView grid;
+  StepParams step;
+  Span<const std::uint64_t> sorted_keys;
+  ROMP_HD void operator()(Index p) const {
+    if (particles.has_domain(p)) return;
+    int origin[3];
+    tile_origin(sorted_keys[p], origin);
+    if (left_block(particles.x.load(p), grid.inverse_dx, origin))
+      scatter_to_grid(P2GParticle(particles, grid, step, p), grid);
   }
 };
 
@@ -101,12 +134,12 @@ constexpr int kTiledThreads = 128;
 
 // CUDA: one thread block per grid block; its threads share the tile in shared memory.
 __global__ void tiled_block_to_grid(ParticleView particles, GridView grid, StepParams step,
-                                    Span<const std::int32_t> starts) {
+                                    Span<const std::int32_t> starts, Span<const std::uint64_t> sorted_keys) {
   __shared__ float tile[kTilePlanes * kTileNodes];
   for (int t = threadIdx.x; t < kTilePlanes * kTileNodes; t += blockDim.x) tile[t] = 0.0f;
   const Index begin = starts[blockIdx.x], end = starts[blockIdx.x + 1];
   int origin[3];
-  tile_origin(QuadraticStencil<float>(particles.x.load(begin), grid.inverse_dx), origin);
+  tile_origin(sorted_keys[begin], origin);
   __syncthreads();
   for (Index p = begin + threadIdx.x; p < end; p += blockDim.x)
     scatter_to_tile<true>(particles, grid, step, p, origin, tile);
@@ -119,25 +152,30 @@ __global__ void tiled_block_to_grid(ParticleView particles, GridView grid, StepP
 }  // namespace
 
 void particle_to_grid_tiled(const Exec& exec, const ParticleView& particles, const GridView& grid,
-                            const StepParams& step, Span<const std::int32_t> block_starts) {
+                            const StepParams& step, Span<const std::int32_t> block_starts,
+                            Span<const std::uint64_t> sorted_keys, bool sorted_at_these_positions) {
   const Index blocks = block_starts.size() - 1;
   ROMP_CHECK(blocks >= 0, "block_starts needs the particle count at its end");
+  ROMP_CHECK(sorted_keys.size() == particles.count, "the sort's block key of every particle");
   if (blocks == 0) return;
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
-    tiled_block_to_grid<<<unsigned(blocks), kTiledThreads, 0, exec.stream>>>(particles, grid, step, block_starts);
+    tiled_block_to_grid<<<unsigned(blocks), kTiledThreads, 0, exec.stream>>>(particles, grid, step, block_starts,
+                                                                             sorted_keys);
     romp::detail::check_launch(exec);
-    return;
 #else
     throw Error("particle_to_grid_tiled on CUDA from a translation unit not compiled by nvcc");
 #endif
-  }
-  const int threads = romp::detail::cpu_threads(exec);
-  const TiledBlockToGrid run{particles, grid, step, block_starts};
-  const memory::DeviceAccess launch;
-  // Blocks hold very different particle counts: hand them out a few at a time.
+  } else {
+    const int threads = romp::detail::cpu_threads(exec);
+    const TiledBlockToGrid run{particles, grid, step, block_starts, sorted_keys};
+    const memory::DeviceAccess launch;
+    // Blocks hold very different particle counts: hand them out a few at a time.
 #pragma omp parallel for schedule(dynamic, 4) num_threads(threads)
-  for (Index block = 0; block < blocks; ++block) run(block);
+    for (Index block = 0; block < blocks; ++block) run(block);
+  }
+  if (!sorted_at_these_positions)
+    for_each(exec, particles.count, MovedParticleToGrid{particles, grid, step, sorted_keys});
 }
 
 }  // namespace romp::mpm

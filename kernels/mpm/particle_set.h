@@ -85,6 +85,8 @@ class ParticleSet {
   Span<const std::int32_t> block_starts() const {
     return Span<const std::int32_t>(block_starts_.data(), block_count_ + 1);
   }
+  // After sort_by_block: each particle's block key as that sort found it (increasing), until the next sort.
+  Span<const std::uint64_t> sorted_block_keys() const { return sort_scratch_.keys.prefix(count_); }
 
   // The particles of Dirichlet group `group` move freely from now on.
   void release_dirichlet_group(const Exec& exec, std::int32_t group);

@@ -117,10 +117,13 @@ ROMP_HD inline Mat3<float> particle_first_piola(const StepParams& step, const ma
 
 void particle_to_grid(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step);
 // The same P2G by grid block (p2g_tiled.cu): each block's particles add into a local tile of nodes
-// that reaches the grid once. The particles must be sorted by block (ParticleSet::sort_by_block) and
-// `block_starts` be that sort's runs; the result equals particle_to_grid's up to float rounding.
+// that reaches the grid once. `block_starts` and `sorted_keys` are the runs and the particles' block keys of
+// the last ParticleSet::sort_by_block, which may be several substeps old: particles that have left their
+// run's block since are added by a second launch, skipped when `sorted_at_these_positions` (the sort ran on
+// the particles' current positions). The result equals particle_to_grid's up to float rounding.
 void particle_to_grid_tiled(const Exec& exec, const ParticleView& particles, const GridView& grid,
-                            const StepParams& step, Span<const std::int32_t> block_starts);
+                            const StepParams& step, Span<const std::int32_t> block_starts,
+                            Span<const std::uint64_t> sorted_keys, bool sorted_at_these_positions);
 void update_grid(const Exec& exec, const GridView& grid, const StepParams& step);
 void grid_to_particle(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step);
 // The return map of each plastic material, on particles not in a Dirichlet group.
