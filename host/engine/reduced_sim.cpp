@@ -110,7 +110,8 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
       samples_(reference, Index(config_.dirichlet.size()), options.samples, options.boundary_samples, options.seed,
                map_.latent()),
       latent_(exec.backend, xhat, options.projection == RomProjection::PositionVelocity,
-              {options.gauss_newton_iterations, options.gauss_newton_tolerance}),
+              {options.gauss_newton_iterations, options.gauss_newton_tolerance},
+              inputs_.reserve_readback(2 * int(xhat.size()) + 1)),
       first_outside_(exec.backend, 2),
       xhat_(std::move(xhat)),
       stage_timeline_(exec) {
@@ -173,7 +174,10 @@ void ReducedSim::substep(float dt) {
   timed([&] { mpm::update_grid(exec_, grid, step); });
   const mpm::ParticleView samples = samples_.points().view();
   timed([&] { mpm::grid_to_particle(exec_, samples, grid, step); });
-  // The samples' largest speed (the next step's CFL) comes back with the failure slots.
+  // Alg. 6 / 7: v̂_{n+1} and x̂_{n+1}, solved where the system is.
+  timed([&] { latent_.project(exec_, map_, samples_, dt); });
+  // One round trip: the stages' failure slots (a failure in them is reported first: the projection then
+  // ran on it), the samples' largest speed (the next step's CFL) and the new [x̂ | v̂ | status].
   const float sample_speed = inputs_.check_stages_and_speed("reduced simulation: ", steps_, time_, samples,
                                                             [this](mpm::Stage stage, std::int64_t slot) {
     // G2P runs over the samples and P2G over the quadrature points, reported as their material points.
@@ -181,16 +185,10 @@ void ReducedSim::substep(float dt) {
     const std::int64_t point = download(exec_.backend, samples_.index().subspan(slot, 1), exec_.stream)[0];
     return std::pair<std::int64_t, std::string>(point, fmt::format("sample material point {}", point));
   });
-
-  // Alg. 6 / 7: v̂_{n+1} and x̂_{n+1}, solved where the system is, so that only the new state comes back:
-  // one round trip.
-  timed([&] {
-    latent_.project(exec_, map_, samples_, dt);
-    const std::vector<float> latent = latent_.read(exec_);
-    if (latent[2 * r] != rom::kLatentSolved) throw singular_projection();
-    xhat_.assign(latent.begin(), latent.begin() + r);
-    vhat_.assign(latent.begin() + r, latent.begin() + 2 * r);
-  });
+  const std::vector<float>& latent = inputs_.readback();
+  if (latent[2 * r] != rom::kLatentSolved) throw singular_projection();
+  xhat_.assign(latent.begin(), latent.begin() + r);
+  vhat_.assign(latent.begin() + r, latent.begin() + 2 * r);
   check_latent("the projection");
   max_sample_speed_ = sample_speed;
   time_ += dt;

@@ -127,7 +127,15 @@ float StepInputs::check_stages_and_speed(const std::string& who, std::int64_t st
   throw_first_failure(slots, who, step, time, describe);
   float speed;
   std::memcpy(&speed, &slots[mpm::kStageCount], sizeof speed);
+  if (!readback_.empty()) std::memcpy(readback_.data(), &slots[mpm::kStageCount + 1], readback_.size() * sizeof(float));
   return speed;
+}
+
+Span<float> StepInputs::reserve_readback(int floats) {
+  ROMP_CHECK(floats >= 1 && readback_.empty(), "reserve_readback: once, for at least one value");
+  first_failure_ = DeviceBuffer<std::int64_t>(exec_.backend, mpm::kStageCount + 1 + (floats + 1) / 2);
+  readback_.assign(std::size_t(floats), 0.0f);
+  return Span<float>(reinterpret_cast<float*>(first_failure_.data() + mpm::kStageCount + 1), floats);
 }
 
 void StepInputs::throw_first_failure(const std::vector<std::int64_t>& failures, const std::string& who,

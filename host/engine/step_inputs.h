@@ -57,6 +57,12 @@ class StepInputs {
   // read back with the failure slots: one download for both. Returns the speed.
   float check_stages_and_speed(const std::string& who, std::int64_t step, double time,
                                const mpm::ParticleView& particles, const FailureDescriber& describe);
+  // Room for `floats` device values after the failure slots and the speed, which check_stages_and_speed
+  // reads back with them: ReducedSim keeps its [x̂ | v̂ | status] there, so a substep's checks, its next
+  // CFL speed and its new state come back in one download. Call once, before the first substep.
+  Span<float> reserve_readback(int floats);
+  // Those values as the last check_stages_and_speed read them.
+  const std::vector<float>& readback() const { return readback_; }
 
   bool plastic() const { return plastic_; }
   // The largest dilatational wave speed sqrt((λ + 2μ) / ρ) over the materials (m/s), for the CFL rule.
@@ -76,8 +82,10 @@ class StepInputs {
   DeviceBuffer<mpm::RigidMotion> dirichlet_;
   DeviceBuffer<mpm::RegionLoad> loads_;
   DeviceBuffer<Vec3<float>> tractions_;
-  // kStageCount failure slots, then one slot whose first 4 bytes hold a float speed.
+  // kStageCount failure slots, then one slot whose first 4 bytes hold a float speed, then the readback's
+  // floats (two per slot).
   DeviceBuffer<std::int64_t> first_failure_;
+  std::vector<float> readback_;
 
   void throw_first_failure(const std::vector<std::int64_t>& failures, const std::string& who, std::int64_t step,
                            double time, const FailureDescriber& describe) const;

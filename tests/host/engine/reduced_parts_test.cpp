@@ -84,7 +84,8 @@ TEST(LatentProjection, FitsAndProjectsVelocitiesAndAdvancesThePosition) {
   const Index n = init.count();
   const ReferenceBody reference(test::exec().backend, init);
   const DeformationMap map(test::exec().backend, test::translation_map());
-  LatentProjection latent(test::exec().backend, {0.0f, 0.0f, 0.0f}, /*positions=*/false, {});
+  DeviceBuffer<float> storage(test::exec().backend, 7);  // [x̂ | v̂ | status] of r = 3
+  LatentProjection latent(test::exec().backend, {0.0f, 0.0f, 0.0f}, /*positions=*/false, {}, storage.span());
   SampleSet samples(init, 1, 0, 5, 3, 3);
   samples.draw(test::exec(), reference);
   samples.decode(test::exec(), map, latent.xhat(), latent.vhat());
