@@ -142,6 +142,14 @@ struct EulerianPoint {
           continue;
         }
         if (solve_where_positive(B, x.load(i) - g, step)) {
+          // The step's end predicts the solution far better than the first guess did: where it lies more
+          // than predicted_margin cells from any material the point lands outside the body, and is dropped
+          // without the evaluations that would take it there.
+          if (!occupancy.near(X + step, options.predicted_margin)) {
+            status = kQuadratureOutside;
+            stage = Stage::Done;
+            continue;
+          }
           halving = 0;
           stage = Stage::Trial;
           continue;

@@ -64,6 +64,10 @@ struct InversionOptions {
   // guesses of the points used were off by at most 0.72 cells (700 substeps), and margins of 1, 2 and 3
   // kept exactly the same points (504 substeps), 2 with a fifth less inversion time than 3.
   int outside_margin = 2;
+  // A point whose quasi-Newton step ends farther than this many occupancy cells from any material is dropped
+  // then: the step's end is within a small fraction of a cell of where the point converges (its error is
+  // the square of the guess's, relative to g's curvature), so such a point would end outside the body.
+  int predicted_margin = 1;
 };
 
 // What happened to each quadrature point.

@@ -116,7 +116,8 @@ class QuadratureFixture : public ::testing::Test {
   // Runs the quadrature at the current positions of `truth` (g in double), from `X_guess` and
   // `F_guess` (planes), then evaluates the map at the points it returned.
   Quadrature run(const std::vector<Eigen::Vector3d>& truth, const std::vector<float>& X_guess,
-                 const std::vector<float>& F_guess, int iterations = 20, MapKernel kernel = MapKernel::Fastest) const {
+                 const std::vector<float>& F_guess, int iterations = 20, MapKernel kernel = MapKernel::Fastest,
+                 int predicted_margin = InversionOptions{}.predicted_margin) const {
     const Exec& exec = test::exec();
     const Index n = Index(truth.size());
     std::vector<Eigen::Vector3d> current;
@@ -135,6 +136,7 @@ class QuadratureFixture : public ::testing::Test {
     InversionOptions options;
     options.iterations = iterations;
     options.tolerance = kTolerance;
+    options.predicted_margin = predicted_margin;
     const EulerianPointsOut out{Vec3Planes<float>(X.data(), n),
                                 Vec3Planes<float>(v.data(), n),
                                 Mat3Planes<float>(F.data(), n),
@@ -276,6 +278,38 @@ TEST_F(EulerianQuadrature, DropsPointsOutsideTheBodyAndThoseItCannotInvert) {
   const Quadrature stopped = run(inside, off, identity, 1);
   EXPECT_EQ(stopped.status[0], kQuadratureUnconverged);
   EXPECT_EQ(stopped.mass[0], 0.0f);
+}
+
+// A point whose first quasi-Newton step ends more than predicted_margin cells from any material lands
+// outside the body: it is dropped after the one evaluation at its guess, where iterating to the solution
+// took more and found it outside all the same. Points inside are found as before.
+TEST_F(EulerianQuadrature, DropsAPointWhoseFirstStepEndsFarOutsideTheBody) {
+  // Solutions 2 and 3 cells beyond the face X = −0.1 m, guesses 1.25 cells beyond it (within the guesses'
+  // margin of 2 cells, so they are inverted).
+  const std::vector<Eigen::Vector3d> truth = {{-0.14, 0.41, 0.15}, {-0.16, 0.33, 0.11}};
+  const std::size_t n = truth.size();
+  std::vector<float> X_guess = planes(truth), F_guess;
+  for (std::size_t i = 0; i < n; ++i) X_guess[i] = -0.125f;
+  std::vector<float> x_guess, dg;
+  evaluate(X_guess, x_guess, F_guess, dg);  // ∇_X g at the guesses: the first step is Newton's
+  const Quadrature early = run(truth, X_guess, F_guess);
+  const Quadrature late = run(truth, X_guess, F_guess, 20, MapKernel::Fastest, /*predicted_margin=*/1000);
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_EQ(early.status[i], kQuadratureOutside) << "point " << i;
+    EXPECT_EQ(late.status[i], kQuadratureOutside) << "point " << i;
+    EXPECT_EQ(early.evaluations[i], 1) << "point " << i;
+    EXPECT_GE(late.evaluations[i], 2) << "point " << i;
+    EXPECT_EQ(early.mass[i], 0.0f);
+  }
+  // Inside the body the early drop changes nothing.
+  const std::vector<Eigen::Vector3d> inside = points_inside(100, 6);
+  std::vector<float> inside_guess, inside_F;
+  linearised_guesses(inside, inside_guess, inside_F);
+  const Quadrature with = run(inside, inside_guess, inside_F);
+  const Quadrature without = run(inside, inside_guess, inside_F, 20, MapKernel::Fastest, 1000);
+  expect_found(inside, with);
+  EXPECT_EQ(with.X, without.X);
+  EXPECT_EQ(with.evaluations, without.evaluations);
 }
 
 // The fixed-shape kernel on the papers' network: every point found, and the same points, positions and
