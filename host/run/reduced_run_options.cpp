@@ -8,8 +8,10 @@
 namespace romp::run {
 
 void add_reduced_run_options(CLI::App& run, ReducedRunOptions& options) {
+  // A reduced run is fast to repeat from the start: --resume continues full-order runs only.
   CLI::Option* rom = run.add_option("--rom", options.model, "Run reduced-order with this model file (romp train-rom)")
-                         ->check(CLI::ExistingFile);
+                         ->check(CLI::ExistingFile)
+                         ->excludes("--resume");
   run.add_option(
          "--quadrature", options.quadrature,
          "Reduced-order quadrature: eulerian (cost follows the samples) or lagrangian (the samples' neighbours)")
