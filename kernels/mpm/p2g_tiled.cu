@@ -45,21 +45,13 @@ ROMP_HD_INLINE void tile_origin(std::uint64_t block, int origin[3]) {
   for (int a = 0; a < 3; ++a) origin[a] = block_coordinate(block, a) * kBlockSide;
 }
 
-// Whether the particle at x has its stencil's base node outside the block whose first node is `origin`:
-// it has moved to another block since the sort, and its stencil may leave the tile.
-ROMP_HD_INLINE bool left_block(const Vec3<float>& x, float inverse_dx, const int origin[3]) {
-  for (int a = 0; a < 3; ++a) {
-    const int d = int(x[a] * inverse_dx - 0.5f) - origin[a];  // QuadraticStencil's base
-    if (d < 0 || d >= kBlockSide) return true;
-  }
-  return false;
-}
-
+// A particle in the run of block `run_key` whose stencil base has since moved to another block (its
+// stencil may leave the tile) is left to MovedParticleToGrid.
 template <bool kShared>
 ROMP_HD void scatter_to_tile(const ParticleView& particles, const GridView& grid, const StepParams& step, Index p,
-                             const int origin[3], float* tile) {
-  if (particles.has_domain(p)) return;                                   // its domain's corners carry it to the grid
-  if (left_block(particles.x.load(p), grid.inverse_dx, origin)) return;  // MovedParticleToGrid adds it
+                             std::uint64_t run_key, const int origin[3], float* tile) {
+  if (particles.has_domain(p)) return;  // its domain's corners carry it to the grid
+  if (particle_block_key(particles.x.load(p), grid.inverse_dx) != run_key) return;
   const P2GParticle particle(particles, grid, step, p);
   const bool flip = grid.keeps_old_velocity();
   const int di = particle.stencil.base[0] - origin[0], dj = particle.stencil.base[1] - origin[1],
@@ -107,7 +99,8 @@ struct TiledBlockToGrid {
     const Index begin = starts[block], end = starts[block + 1];
     int origin[3];
     tile_origin(sorted_keys[begin], origin);
-    for (Index p = begin; p < end; ++p) scatter_to_tile<false>(particles, grid, step, p, origin, tile);
+    for (Index p = begin; p < end; ++p)
+      scatter_to_tile<false>(particles, grid, step, p, sorted_keys[begin], origin, tile);
     const bool flip = grid.keeps_old_velocity();
     for (int node = 0; node < kTileNodes; ++node) flush_tile_node(grid, flip, origin, tile, node);
   }
@@ -122,9 +115,7 @@ struct MovedParticleToGrid {
   Span<const std::uint64_t> sorted_keys;
   ROMP_HD void operator()(Index p) const {
     if (particles.has_domain(p)) return;
-    int origin[3];
-    tile_origin(sorted_keys[p], origin);
-    if (left_block(particles.x.load(p), grid.inverse_dx, origin))
+    if (particle_block_key(particles.x.load(p), grid.inverse_dx) != sorted_keys[p])
       scatter_to_grid(P2GParticle(particles, grid, step, p), grid);
   }
 };
@@ -142,7 +133,7 @@ __global__ void tiled_block_to_grid(ParticleView particles, GridView grid, StepP
   tile_origin(sorted_keys[begin], origin);
   __syncthreads();
   for (Index p = begin + threadIdx.x; p < end; p += blockDim.x)
-    scatter_to_tile<true>(particles, grid, step, p, origin, tile);
+    scatter_to_tile<true>(particles, grid, step, p, sorted_keys[begin], origin, tile);
   __syncthreads();
   const bool flip = grid.keeps_old_velocity();
   for (int node = threadIdx.x; node < kTileNodes; node += blockDim.x) flush_tile_node(grid, flip, origin, tile, node);

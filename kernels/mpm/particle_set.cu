@@ -10,7 +10,6 @@
 #include "kernels/core/gather_planes.h"
 #include "kernels/core/memory.h"
 #include "kernels/core/replace_value.h"
-#include "kernels/mpm/bspline.h"
 #include "kernels/mpm/sparse_grid.h"
 
 #if defined(__CUDACC__)
@@ -40,8 +39,7 @@ struct BlockKeyOfParticle {
   Span<std::int32_t> order;
   float inverse_dx;
   ROMP_HD void operator()(Index p) const {
-    const QuadraticStencil<float> stencil(x.load(p), inverse_dx);
-    keys[p] = block_key(stencil.base[0] / kBlockSide, stencil.base[1] / kBlockSide, stencil.base[2] / kBlockSide);
+    keys[p] = particle_block_key(x.load(p), inverse_dx);
     order[p] = std::int32_t(p);
   }
 };

@@ -13,6 +13,7 @@
 #include "kernels/core/exec.h"
 #include "kernels/core/span.h"
 #include "kernels/math/mat3_planes.h"
+#include "kernels/mpm/bspline.h"
 
 namespace romp::mpm {
 
@@ -31,6 +32,12 @@ ROMP_HD_INLINE std::uint64_t block_key(int bx, int by, int bz) {
 }
 ROMP_HD_INLINE int block_coordinate(std::uint64_t key, int axis) {
   return int((key >> ((2 - axis) * kKeyBits)) & kKeyMask);
+}
+// The key of the block that holds the stencil base node of a particle at x: what ParticleSet::sort_by_block
+// orders the particles by, and how the tiled P2G tells a particle that has left its run's block since.
+ROMP_HD_INLINE std::uint64_t particle_block_key(const Vec3<float>& x, float inverse_dx) {
+  const QuadraticStencil<float> stencil(x, inverse_dx);
+  return block_key(stencil.base[0] / kBlockSide, stencil.base[1] / kBlockSide, stencil.base[2] / kBlockSide);
 }
 // Node (i, j, k) lives in block (i/4, j/4, k/4) at local index 16 (i%4) + 4 (j%4) + k%4.
 ROMP_HD_INLINE int local_node(int i, int j, int k) {
