@@ -16,12 +16,15 @@ struct QuadraticStencil {
   T fx[3];      // particle position relative to the base node, in cells (in [0.5, 1.5))
   T w[3][3];    // w[axis][k]: 1D weight of node base + k
 
+  // The lowest node touched along an axis by a particle at `cell` (its coordinate in cells). Truncation is
+  // floor(cell - 0.5) because the engine keeps particles at least one cell inside the domain [0, L]^3 (see
+  // kDomainMarginCells in domain_walls.h).
+  ROMP_HD static int base_node(T cell) { return int(cell - T(0.5)); }
+
   ROMP_HD QuadraticStencil(const Vec3<T>& x, T inverse_dx) {
     for (int a = 0; a < 3; ++a) {
       const T cell = x[a] * inverse_dx;
-      // Truncation is floor(cell - 0.5) because the engine keeps particles at least one cell inside
-      // the domain [0, L]^3 (see kDomainMarginCells in domain_walls.h).
-      base[a] = int(cell - T(0.5));
+      base[a] = base_node(cell);
       fx[a] = cell - T(base[a]);
       const T d0 = T(1.5) - fx[a], d1 = fx[a] - T(1), d2 = fx[a] - T(0.5);
       w[a][0] = T(0.5) * d0 * d0;

@@ -45,13 +45,21 @@ ROMP_HD_INLINE void tile_origin(std::uint64_t block, int origin[3]) {
   for (int a = 0; a < 3; ++a) origin[a] = block_coordinate(block, a) * kBlockSide;
 }
 
+// Whether the particle at x is no longer in the block of key `block` (particle_block_key's, compared by
+// coordinate: building the key anew cost the second launch 13 registers).
+ROMP_HD_INLINE bool left_block(const Vec3<float>& x, float inverse_dx, std::uint64_t block) {
+  for (int a = 0; a < 3; ++a)
+    if (QuadraticStencil<float>::base_node(x[a] * inverse_dx) / kBlockSide != block_coordinate(block, a)) return true;
+  return false;
+}
+
 // A particle in the run of block `run_key` whose stencil base has since moved to another block (its
 // stencil may leave the tile) is left to MovedParticleToGrid.
 template <bool kShared>
 ROMP_HD void scatter_to_tile(const ParticleView& particles, const GridView& grid, const StepParams& step, Index p,
                              std::uint64_t run_key, const int origin[3], float* tile) {
   if (particles.has_domain(p)) return;  // its domain's corners carry it to the grid
-  if (particle_block_key(particles.x.load(p), grid.inverse_dx) != run_key) return;
+  if (left_block(particles.x.load(p), grid.inverse_dx, run_key)) return;
   const P2GParticle particle(particles, grid, step, p);
   const bool flip = grid.keeps_old_velocity();
   const int di = particle.stencil.base[0] - origin[0], dj = particle.stencil.base[1] - origin[1],
@@ -115,7 +123,7 @@ struct MovedParticleToGrid {
   Span<const std::uint64_t> sorted_keys;
   ROMP_HD void operator()(Index p) const {
     if (particles.has_domain(p)) return;
-    if (particle_block_key(particles.x.load(p), grid.inverse_dx) != sorted_keys[p])
+    if (left_block(particles.x.load(p), grid.inverse_dx, sorted_keys[p]))
       scatter_to_grid(P2GParticle(particles, grid, step, p), grid);
   }
 };

@@ -34,10 +34,11 @@ ROMP_HD_INLINE int block_coordinate(std::uint64_t key, int axis) {
   return int((key >> ((2 - axis) * kKeyBits)) & kKeyMask);
 }
 // The key of the block that holds the stencil base node of a particle at x: what ParticleSet::sort_by_block
-// orders the particles by, and how the tiled P2G tells a particle that has left its run's block since.
+// orders the particles by.
 ROMP_HD_INLINE std::uint64_t particle_block_key(const Vec3<float>& x, float inverse_dx) {
-  const QuadraticStencil<float> stencil(x, inverse_dx);
-  return block_key(stencil.base[0] / kBlockSide, stencil.base[1] / kBlockSide, stencil.base[2] / kBlockSide);
+  int block[3];
+  for (int a = 0; a < 3; ++a) block[a] = QuadraticStencil<float>::base_node(x[a] * inverse_dx) / kBlockSide;
+  return block_key(block[0], block[1], block[2]);
 }
 // Node (i, j, k) lives in block (i/4, j/4, k/4) at local index 16 (i%4) + 4 (j%4) + k%4.
 ROMP_HD_INLINE int local_node(int i, int j, int k) {
