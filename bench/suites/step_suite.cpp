@@ -26,7 +26,7 @@ struct StepCase {
 // The body is resampled so that it holds about `particles` particles at 2 per cell per axis.
 // The P2G kernels timed, and how often the particles are sorted by block: every substep (the H200 baseline's
 // setting), and every kSortEveryOnCuda substeps with the tiled kernel (particles that left their block since
-// go straight to the grid).
+// go straight to the grid, which is built with the sort around the particles' blocks and kept until then).
 struct StepVariant {
   engine::P2GKernel p2g;
   int sort_every;
@@ -85,6 +85,11 @@ void run_step_suite(Context& context) {
           const std::string where = fmt::format("step.{}.{}{}", m.name, m.backend, m.threads);
           const double bytes = double(sim.particles().bytes() + sim.grid().bytes());
           context.record(where + ".bytes_per_particle", bytes / double(n));
+          // How often it sorted (the early sorts: a particle had left the grid kept since the last one), and the
+          // grid nodes per particle, which a grid kept between sorts widens.
+          context.record(where + ".sorts_per_substep", double(sim.sort_statistics().sorts) / double(sim.steps()));
+          context.record(where + ".early_sorts", double(sim.sort_statistics().early_sorts));
+          context.record(where + ".grid_nodes_per_particle", double(sim.grid().active_nodes()) / double(n));
           // Where a substep goes, over warm-up and timed repeats together.
           double total = 0.0;
           for (const auto& [stage, seconds] : sim.stage_seconds()) total += seconds;

@@ -28,6 +28,7 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
   ROMP_CHECK(config_.sort_every >= 0,
              fmt::format("sort_every must be >= 0 (0: the backend's choice), got {}", config_.sort_every));
   sort_every_ = config_.sort_every > 0 ? config_.sort_every : exec.is_cuda() ? kSortEveryOnCuda : 1;
+  if (sort_every_ > 1) left_grid_slot_ = inputs_.reserve_readback(1);
   if (!init.domains.empty()) domains_.emplace(exec.backend, init.domains);
   released_.assign(config_.dirichlet.size(), false);
   if (config_.integrator == Integrator::Implicit) implicit_.emplace(exec.backend, config_.implicit);
@@ -81,15 +82,29 @@ void FullOrderSim::substep(float dt) {
 
   StageClock timed(stage_timeline_);
   const float inverse_dx = 1.0f / config_.dx;
+  // A grid that follows the sort serves until a particle's stencil leaves it: the last substep's G2P said so.
+  const bool follows_sort = grid_follows_sort();
+  const bool left_grid = follows_sort && sorted_ && inputs_.readback()[0] > 0.0f;
+  const bool sort_now = !sorted_ || steps_ % sort_every_ == 0 || left_grid;
   // The stage runs empty between sorts, so the stage table keeps its rows.
-  const bool sort_now = !sorted_ || steps_ % sort_every_ == 0;
   timed([&] {
-    if (sort_now) particles_.sort_by_block(exec_, inverse_dx);
+    if (!sort_now) return;
+    particles_.sort_by_block(exec_, inverse_dx);
+    ++sorting_.sorts;
+    if (sorted_ && steps_ % sort_every_ != 0) ++sorting_.early_sorts;
+    if (follows_sort) memory::fill_zero(left_grid_slot_.data(), exec_.backend, sizeof(float), exec_.stream);
   });
   sorted_ = true;
   const mpm::ParticleView particles = particles_.view();
   const mpm::DomainView domains = domains_ ? domains_->view() : mpm::DomainView{};
-  timed([&] { grid_.rebuild(exec_, Vec3Planes<const float>(particles.x), Vec3Planes<const float>(domains.x)); });
+  timed([&] {
+    if (!follows_sort)
+      grid_.rebuild(exec_, Vec3Planes<const float>(particles.x), Vec3Planes<const float>(domains.x));
+    else if (sort_now)
+      grid_.rebuild_around_blocks(exec_, particles_.block_starts(), particles_.sorted_block_keys());
+    else
+      grid_.clear_nodes(exec_);
+  });
   const mpm::GridView grid = grid_.view();
   if (neural_) timed([&] { step.host_stress = neural_->evaluate_stress(exec_, particles); });
   timed([&] {
@@ -106,7 +121,11 @@ void FullOrderSim::substep(float dt) {
   }
   timed([&] { mpm::update_grid(exec_, grid, step); });
   if (implicit_) timed([&] { implicit_->solve(exec_, particles, domains, grid, step, steps_ + 1); });
-  timed([&] { mpm::grid_to_particle(exec_, particles, grid, step); });
+  timed([&] {
+    mpm::grid_to_particle(
+        exec_, particles, grid, step,
+        follows_sort ? mpm::GridCoverage{particles_.sorted_block_keys(), left_grid_slot_} : mpm::GridCoverage{});
+  });
   if (domains_) {
     timed([&] { mpm::grid_to_corners(exec_, domains, grid, step); });
     timed([&] { mpm::corners_to_particles(exec_, particles, domains, step); });

@@ -35,6 +35,13 @@ struct EnrichmentStatistics {
   std::int64_t largest_share_step = 0;
 };
 
+// How often the particles were sorted by block (each sort also rebuilds a grid that follows the sort), and
+// how many of those sorts came early because a particle's stencil had left the grid built at the last one.
+struct SortStatistics {
+  std::int64_t sorts = 0;
+  std::int64_t early_sorts = 0;
+};
+
 class FullOrderSim {
  public:
   // `init.domains`, when not empty, gives the particles it names hexahedral domains (particle_domains.h).
@@ -61,6 +68,7 @@ class FullOrderSim {
   // The particles, to change (or read): the next stable_dt then measures their speed anew.
   mpm::ParticleSet& particles() {
     last_particle_speed_.reset();
+    sorted_ = false;  // they may move: the next substep sorts them and builds its grid anew
     return particles_;
   }
   const mpm::SparseGrid& grid() const { return grid_; }
@@ -69,6 +77,10 @@ class FullOrderSim {
   // The share of domain particles whose corners were enriched in the last substep (0 without enrichment).
   double enriched_share() const { return last_enriched_share_; }
   const EnrichmentStatistics& enrichment_statistics() const { return enrichment_; }
+  const SortStatistics& sort_statistics() const { return sorting_; }
+  // Whether the grid is built when the particles are sorted and kept until the next sort (sort_every > 1,
+  // without particle domains or tracers), rather than built from the particles' positions every substep.
+  bool grid_follows_sort() const { return sort_every_ > 1 && !domains_ && !tracers_; }
   // The implicit solver's counts; nullptr for the explicit integrator.
   const ImplicitSolveTotals* implicit_totals() const { return implicit_ ? &implicit_->totals() : nullptr; }
 
@@ -102,6 +114,10 @@ class FullOrderSim {
   // are multiples of it, and on a simulation's first substep), and whether a sort has run.
   int sort_every_ = 1;
   bool sorted_ = false;
+  SortStatistics sorting_;
+  // Where G2P flags a particle that left the grid built at the last sort, read back with the failure slots
+  // (empty when sort_every is 1).
+  Span<float> left_grid_slot_;
   std::optional<ImplicitGridSolver> implicit_;  // with Integrator::Implicit only
   std::unique_ptr<NeuralMaterials> neural_;     // when some material is a learned law
   std::optional<TracerSet> tracers_;

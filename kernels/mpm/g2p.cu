@@ -14,6 +14,7 @@ struct GridToParticle {
   ParticleView particles;
   GridView grid;
   StepParams step;
+  GridCoverage coverage;
 
   ROMP_HD void operator()(Index p) const {
     if (particles.has_domain(p)) return;  // corners_to_particles moves it
@@ -45,7 +46,15 @@ struct GridToParticle {
       x += step.dt * v;
       F = (Mat3<float>::identity() + step.dt * C) * F;
     }
-    store_moved_particle(particles, step, p, kept_inside_domain(step.domain, x, grid.dx), v, C, F);
+    x = kept_inside_domain(step.domain, x, grid.dx);
+    store_moved_particle(particles, step, p, x, v, C, F);
+    if (!coverage.sorted_keys.empty()) record_left_grid(p, x);
+  }
+
+  ROMP_HD void record_left_grid(Index p, const Vec3<float>& x) const {
+    int base[3];
+    for (int a = 0; a < 3; ++a) base[a] = QuadraticStencil<float>::base_node(x[a] * grid.inverse_dx);
+    if (!stencil_within_blocks_around(base, coverage.sorted_keys[p])) atomic_max(&coverage.left[0], 1.0f);
   }
 };
 
@@ -84,8 +93,12 @@ struct MaxSpeed {
 
 }  // namespace
 
-void grid_to_particle(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step) {
-  for_each(exec, particles.count, GridToParticle{particles, grid, step});
+void grid_to_particle(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step,
+                      const GridCoverage& coverage) {
+  ROMP_CHECK(
+      coverage.sorted_keys.empty() || (coverage.sorted_keys.size() == particles.count && coverage.left.size() == 1),
+      "G2P's coverage check needs a block key per particle and one flag");
+  for_each(exec, particles.count, GridToParticle{particles, grid, step, coverage});
 }
 
 void project_plasticity(const Exec& exec, const ParticleView& particles, const StepParams& step) {

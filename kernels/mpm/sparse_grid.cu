@@ -33,6 +33,26 @@ struct ActivateStencilBlocks {
   }
 };
 
+// One thread per run of sorted particles: the run's block and its 26 neighbours (none below coordinate 0,
+// where no stencil reaches).
+struct ActivateBlocksAround {
+  Span<const std::int32_t> block_starts;
+  Span<const std::uint64_t> sorted_keys;
+  BlockTableView table;
+
+  ROMP_HD void operator()(Index run) const {
+    const std::uint64_t key = sorted_keys[block_starts[run]];
+    int low[3], high[3];
+    for (int a = 0; a < 3; ++a) {
+      low[a] = block_coordinate(key, a) > 0 ? block_coordinate(key, a) - 1 : 0;
+      high[a] = block_coordinate(key, a) + 1;
+    }
+    for (int bx = low[0]; bx <= high[0]; ++bx)
+      for (int by = low[1]; by <= high[1]; ++by)
+        for (int bz = low[2]; bz <= high[2]; ++bz) table.insert(block_key(bx, by, bz));
+  }
+};
+
 Index next_power_of_two(Index n) {
   Index p = 1;
   while (p < n) p <<= 1;
@@ -75,6 +95,21 @@ GridView SparseGrid::view() {
 }
 
 void SparseGrid::rebuild(const Exec& exec, Vec3Planes<const float> positions, Vec3Planes<const float> more_positions) {
+  activate_blocks(exec, [&](const BlockTableView& table) {
+    for (const Vec3Planes<const float>& points : {positions, more_positions})
+      for_each(exec, points.count(), ActivateStencilBlocks{points, table, 1.0f / dx_});
+  });
+}
+
+void SparseGrid::rebuild_around_blocks(const Exec& exec, Span<const std::int32_t> block_starts,
+                                       Span<const std::uint64_t> sorted_keys) {
+  ROMP_CHECK(!block_starts.empty(), "rebuild_around_blocks needs the runs' starts and the end");
+  activate_blocks(exec, [&](const BlockTableView& table) {
+    for_each(exec, block_starts.size() - 1, ActivateBlocksAround{block_starts, sorted_keys, table});
+  });
+}
+
+void SparseGrid::activate_blocks(const Exec& exec, const std::function<void(const BlockTableView&)>& activate) {
   // Give memory back once the particles occupy far fewer blocks than provisioned (after a splash
   // settles, say): memory follows the occupied blocks in both directions.
   if (blocks_ > 0 && blocks_ * kShrinkFactor < max_blocks_ && max_blocks_ > kInitialBlocks)
@@ -82,9 +117,7 @@ void SparseGrid::rebuild(const Exec& exec, Vec3Planes<const float> positions, Ve
   while (true) {
     keys_.fill_zero(exec.stream);
     counters_.fill_zero(exec.stream);
-    const GridView grid = view();
-    for (const Vec3Planes<const float>& points : {positions, more_positions})
-      for_each(exec, points.count(), ActivateStencilBlocks{points, grid.table, grid.inverse_dx});
+    activate(view().table);
     const std::vector<std::int32_t> counters = counters_.to_host(exec.stream);
     if (counters[1] == 0 && counters[0] <= max_blocks_) {
       blocks_ = counters[0];
@@ -92,6 +125,10 @@ void SparseGrid::rebuild(const Exec& exec, Vec3Planes<const float> positions, Ve
     }
     allocate(std::max<Index>(2 * max_blocks_, 2 * Index(counters[0])));
   }
+  clear_nodes(exec);
+}
+
+void SparseGrid::clear_nodes(const Exec& exec) {
   // Only the active prefix of each plane is used this step.
   const Index nodes = max_blocks_ * kNodesPerBlock;
   const std::size_t active_bytes = std::size_t(active_nodes()) * sizeof(float);

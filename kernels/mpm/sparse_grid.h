@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 
 #include "kernels/core/atomic.h"
 #include "kernels/core/device_buffer.h"
@@ -44,6 +45,17 @@ ROMP_HD_INLINE std::uint64_t particle_block_key(const Vec3<float>& x, float inve
 ROMP_HD_INLINE int local_node(int i, int j, int k) {
   return (i & (kBlockSide - 1)) * kBlockSide * kBlockSide + (j & (kBlockSide - 1)) * kBlockSide +
          (k & (kBlockSide - 1));
+}
+
+// The grid SparseGrid::rebuild_around_blocks builds holds the 27 blocks around each particle's block at the
+// last sort: a stencil based at `base` (its node 0, 3 nodes per axis) lies in them while base - 4 b stays in
+// [-4, 5] on each axis, b the block `sorted_key` names. The particle may drift 4 nodes down or 2 up.
+ROMP_HD_INLINE bool stencil_within_blocks_around(const int base[3], std::uint64_t sorted_key) {
+  for (int a = 0; a < 3; ++a) {
+    const int offset = base[a] - kBlockSide * block_coordinate(sorted_key, a);
+    if (base[a] < 0 || offset < -kBlockSide || offset > 2 * kBlockSide - 3) return false;
+  }
+  return true;
 }
 
 // splitmix64's finaliser: neighbouring blocks land far apart in the table.
@@ -117,6 +129,13 @@ class SparseGrid {
   // (particles, and the corners of particle domains) touches and zeroes its nodes. Grows the table
   // (and retries) when the points touch more blocks than it holds.
   void rebuild(const Exec& exec, Vec3Planes<const float> positions, Vec3Planes<const float> more_positions = {});
+  // Activates the 27 blocks around each block of particles the last sort found (run r of `sorted_keys`
+  // starts at block_starts[r]; ParticleSet::sort_by_block's) and zeroes their nodes: a grid for the substeps
+  // until a particle's stencil leaves them (stencil_within_blocks_around). Grows the table like rebuild.
+  void rebuild_around_blocks(const Exec& exec, Span<const std::int32_t> block_starts,
+                             Span<const std::uint64_t> sorted_keys);
+  // Zeroes the active blocks' nodes: the start of a substep that keeps the last rebuild's blocks.
+  void clear_nodes(const Exec& exec);
 
   GridView view();
   Index active_blocks() const { return blocks_; }
@@ -126,6 +145,9 @@ class SparseGrid {
 
  private:
   void allocate(Index max_blocks);
+  // Clears the table, runs `activate` on it and reads the block count back; grows the table and runs it
+  // again when the blocks did not fit. Then zeroes the active nodes.
+  void activate_blocks(const Exec& exec, const std::function<void(const BlockTableView&)>& activate);
 
   Backend backend_;
   float dx_;

@@ -125,7 +125,15 @@ void particle_to_grid_tiled(const Exec& exec, const ParticleView& particles, con
                             const StepParams& step, Span<const std::int32_t> block_starts,
                             Span<const std::uint64_t> sorted_keys, bool sorted_at_these_positions);
 void update_grid(const Exec& exec, const GridView& grid, const StepParams& step);
-void grid_to_particle(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step);
+// What G2P checks for a grid that serves several substeps (SparseGrid::rebuild_around_blocks): each particle's
+// block key at the last sort, and a float set to 1 when a particle's new stencil has left the blocks around
+// it, so that the next substep sorts and rebuilds. Empty: no check (the grid is rebuilt every substep).
+struct GridCoverage {
+  Span<const std::uint64_t> sorted_keys;
+  Span<float> left;
+};
+void grid_to_particle(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step,
+                      const GridCoverage& coverage = {});
 // The return map of each plastic material, on particles not in a Dirichlet group.
 void project_plasticity(const Exec& exec, const ParticleView& particles, const StepParams& step);
 

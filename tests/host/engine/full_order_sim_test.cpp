@@ -491,15 +491,54 @@ TEST(FullOrderSim, SubstepsAllocateNothingOnceRunning) {
   EXPECT_EQ(after.uploads - before.uploads, kSubsteps) << "uploads in " << kSubsteps << " substeps";
   EXPECT_EQ(after.downloads - before.downloads, 3 * kSubsteps) << "downloads in " << kSubsteps << " substeps";
 
-  // Sorting every 4th substep (CUDA's default), the sort's count comes back only in the substeps that sort:
-  // steps 4 and 8 of steps 2 to 11 here.
+  // Sorting every 4th substep (CUDA's default), the grid is built with the sort and kept between sorts: the
+  // sort's count and the grid's come back only in the substeps that sort (steps 4 and 8 of steps 2 to 11
+  // here), the failure slots with the speed and the grid check in every substep.
   config.sort_every = 4;
   engine::FullOrderSim amortised(test::exec(), config,
                                  test::lattice_box({0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}, dx, 2, kJellyDensity));
+  ASSERT_TRUE(amortised.grid_follows_sort());
   for (int s = 0; s < 2; ++s) amortised.substep(amortised.stable_dt());
   const memory::Traffic start = memory::traffic();
   for (int s = 0; s < kSubsteps; ++s) amortised.substep(amortised.stable_dt());
-  EXPECT_EQ(memory::traffic().downloads - start.downloads, 2 * kSubsteps + 2);
+  EXPECT_EQ(memory::traffic().downloads - start.downloads, kSubsteps + 2 * 2);
+  EXPECT_EQ(amortised.sort_statistics().sorts, 3);  // steps 0, 4 and 8
+  EXPECT_EQ(amortised.sort_statistics().early_sorts, 0);
+}
+
+// Between sorts the grid built at the last one serves, with every block around the particles' blocks then;
+// a particle whose stencil leaves them makes the next substep sort and build again. A block thrown at 20 m/s
+// (0.13 node per substep) while spinning crosses several blocks in 80 substeps: with a sort due only every
+// 1000 substeps it is sorted early a few times, not every substep, and follows the run sorted every substep
+// within float rounding.
+TEST(FullOrderSim, GridKeptBetweenSortsIsRebuiltWhenAParticleLeavesIt) {
+  const float dx = 1.0f / 32.0f;
+  engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(1e5f, 0.3f));
+  config.fixed_dt = 2e-4f;
+  mpm::ParticleInit init = test::lattice_box({0.20f, 0.40f, 0.40f}, {0.36f, 0.56f, 0.56f}, dx, 2, kJellyDensity);
+  const Index n = init.count();
+  for (Index p = 0; p < n; ++p) {
+    const Vec3<float> r = test::plane_vector(init.x, n, p) - Vec3<float>(0.28f, 0.48f, 0.48f);
+    test::set_plane_vector(init.v, n, p, Vec3<float>(20.0f, 0.0f, 0.0f) + cross(Vec3<float>(0.0f, 0.0f, 8.0f), r));
+  }
+  std::vector<std::vector<float>> positions;
+  for (const int sort_every : {1, 1000}) {
+    config.sort_every = sort_every;
+    engine::FullOrderSim sim(test::exec(), config, init);
+    EXPECT_EQ(sim.grid_follows_sort(), sort_every > 1);
+    for (int s = 0; s < 80; ++s) sim.substep(config.fixed_dt);
+    positions.push_back(sim.particles().positions_in_initial_order(sim.exec()));
+    if (sort_every == 1) continue;
+    const engine::SortStatistics& sorting = sim.sort_statistics();
+    EXPECT_GE(sorting.early_sorts, 2) << "sorts " << sorting.sorts;
+    EXPECT_EQ(sorting.sorts, sorting.early_sorts + 1);
+    EXPECT_LE(sorting.sorts, 20) << "the grid was not kept between sorts";
+  }
+  float largest = 0.0f;
+  for (std::size_t i = 0; i < positions[0].size(); ++i)
+    largest = std::max(largest, std::fabs(positions[0][i] - positions[1][i]));
+  EXPECT_LT(largest, 1e-5f);
+  EXPECT_GT(positions[1][0] - init.x[0], 0.3f);  // it flew 10 nodes
 }
 
 // Time windows: a Dirichlet group holds the body still until its end, then releases it to free

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <random>
 #include <set>
 #include <vector>
@@ -98,6 +99,69 @@ TEST(SparseGrid, MemoryFollowsTheOccupiedBlocksDownAgain) {
   grid.rebuild(exec, Vec3Planes<const float>(narrow.data(), n));
   EXPECT_LE(grid.active_blocks(), 8);
   EXPECT_LT(grid.bytes() * 10, grown) << "storage stayed sized for the spread-out particles";
+}
+
+// A stencil based at base covers nodes base..base+2 on each axis: inside block b's 27-block neighbourhood while
+// base - 4 b is in [-4, 5] (and base >= 0).
+TEST(SparseGrid, StencilWithinBlocksAroundAllowsFourNodesDownAndTwoUp) {
+  const std::uint64_t key = block_key(5, 5, 5);
+  const auto within = [key](int x, int y, int z) {
+    const int base[3] = {x, y, z};
+    return stencil_within_blocks_around(base, key);
+  };
+  for (int offset = -4; offset <= 5; ++offset) {
+    EXPECT_TRUE(within(20 + offset, 20, 20)) << offset;
+    EXPECT_TRUE(within(20, 20 + offset, 20)) << offset;
+    EXPECT_TRUE(within(20, 20, 20 + offset)) << offset;
+  }
+  for (const int offset : {-5, 6}) {
+    EXPECT_FALSE(within(20 + offset, 20, 20)) << offset;
+    EXPECT_FALSE(within(20, 20 + offset, 20)) << offset;
+    EXPECT_FALSE(within(20, 20, 20 + offset)) << offset;
+  }
+  EXPECT_TRUE(stencil_within_blocks_around(std::array<int, 3>{0, 0, 0}.data(), block_key(0, 0, 0)));
+  EXPECT_FALSE(stencil_within_blocks_around(std::array<int, 3>{-1, 0, 0}.data(), block_key(0, 0, 0)));
+}
+
+// A grid built around the sorted particles' blocks holds every stencil the particles can reach while they stay
+// within the allowance: random drifts up to 4 nodes down and 2 up from the position they were sorted at.
+TEST(SparseGrid, GridAroundSortedBlocksHoldsTheStencilsOfParticlesThatDrifted) {
+  const Exec& exec = test::exec();
+  const Index n = 4000;
+  ParticleInit init;
+  init.x = random_positions(n, 8 * kDx, 0.5f, 21);
+  init.v.assign(3 * n, 0.0f);
+  init.mass.assign(n, 1.0f);
+  init.volume0.assign(n, 1.0f);
+  init.material.assign(n, 0);
+  init.dirichlet_group.assign(n, kNoDirichletGroup);
+  ParticleSet particles(exec.backend, init);
+  particles.sort_by_block(exec, 1.0f / kDx);
+  SparseGrid grid(exec.backend, kDx, false);
+  grid.rebuild_around_blocks(exec, particles.block_starts(), particles.sorted_block_keys());
+  EXPECT_LE(grid.active_blocks(), 27 * (particles.block_starts().size() - 1));
+
+  // Sorted positions, each moved by up to [-4, 2] nodes minus a margin on every axis, with its sort key.
+  std::vector<float> x(3 * n);
+  memory::copy(x.data(), Backend::Cpu, particles.view().x.data(), exec.backend, x.size() * sizeof(float), exec.stream);
+  std::vector<std::uint64_t> sorted_keys(n);
+  memory::copy(sorted_keys.data(), Backend::Cpu, particles.sorted_block_keys().data(), exec.backend,
+               n * sizeof(std::uint64_t), exec.stream);
+  std::mt19937 rng(22);
+  std::uniform_real_distribution<float> drift(-3.99f * kDx, 1.99f * kDx);
+  for (float& value : x) value += drift(rng);
+  for (Index p = 0; p < n; ++p) {
+    const QuadraticStencil<float> s(Vec3<float>(x[p], x[n + p], x[2 * n + p]), 1.0f / kDx);
+    ASSERT_TRUE(stencil_within_blocks_around(s.base, sorted_keys[p])) << "particle " << p;
+  }
+  const std::set<std::uint64_t> needed = expected_blocks(x, n);
+  const std::vector<std::uint64_t> keys(needed.begin(), needed.end());
+  const DeviceBuffer<std::uint64_t> key_buffer =
+      DeviceBuffer<std::uint64_t>::from_host(exec.backend, keys, exec.stream);
+  DeviceBuffer<std::int32_t> found(exec.backend, Index(keys.size()));
+  for_each(exec, Index(keys.size()), FindEachBlock{grid.view().table, key_buffer.span(), found.span()});
+  const std::vector<std::int32_t> indices = found.to_host(exec.stream);
+  for (std::size_t b = 0; b < keys.size(); ++b) ASSERT_GE(indices[b], 0) << "a drifted stencil's block is missing";
 }
 
 TEST(ParticleSet, BlockSortIsAPermutationThatCanBeUndone) {
