@@ -46,11 +46,10 @@ struct StencilNode {
 template <class T, class Visit>
 ROMP_HD_INLINE void for_each_stencil_node(const StepParams<T>& step, const DenseGridView<T>& grid,
                                           const mpm::QuadraticStencil<T>& stencil, const Visit& visit) {
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k)
-        visit(StencilNode<T>{i, j, k, grid.index(stencil.base[0] + i, stencil.base[1] + j, stencil.base[2] + k),
-                             stencil.weight(i, j, k), stencil.offset(i, j, k, step.dx)});
+  mpm::for_each_stencil_offset([&](int i, int j, int k) {
+    visit(StencilNode<T>{i, j, k, grid.index(stencil.base[0] + i, stencil.base[1] + j, stencil.base[2] + k),
+                         stencil.weight(i, j, k), stencil.offset(i, j, k, step.dx)});
+  });
 }
 
 // ∂w_ijk/∂x_p of the quadratic B-spline weights. Per axis, with f the offset from the base node in

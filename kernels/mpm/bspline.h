@@ -40,4 +40,19 @@ struct QuadraticStencil {
   }
 };
 
+// visit(i, j, k) for the 27 nodes of a quadratic stencil, unrolled on the device: constant offsets pick the
+// weights and the nodes' blocks from registers (loops the compiler kept rolled indexed them at run time, which
+// put the stencil in local memory: a 56–128-byte stack frame in every transfer kernel).
+template <class Visit>
+ROMP_HD_INLINE void for_each_stencil_offset(const Visit& visit) {
+  ROMP_UNROLL
+  for (int i = 0; i < 3; ++i) {
+    ROMP_UNROLL
+    for (int j = 0; j < 3; ++j) {
+      ROMP_UNROLL
+      for (int k = 0; k < 3; ++k) visit(i, j, k);
+    }
+  }
+}
+
 }  // namespace romp::mpm

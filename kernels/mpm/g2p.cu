@@ -31,15 +31,13 @@ struct GridToParticle {
       VelocityGather<float> gathered;
       Vec3<float> dv_flip = Vec3<float>::zero();
       const bool flip = step.transfer == Transfer::PicFlip;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          for (int k = 0; k < 3; ++k) {
-            const float w = stencil.weight(i, j, k);
-            const Index n = nodes.node(i, j, k);
-            const Vec3<float> v_node = grid.velocity.load(n);
-            gathered.add(w, v_node, stencil.offset(i, j, k, grid.dx));
-            if (flip) dv_flip += w * (v_node - grid.velocity_old.load(n));
-          }
+      for_each_stencil_offset([&](int i, int j, int k) {
+        const float w = stencil.weight(i, j, k);
+        const Index n = nodes.node(i, j, k);
+        const Vec3<float> v_node = grid.velocity.load(n);
+        gathered.add(w, v_node, stencil.offset(i, j, k, grid.dx));
+        if (flip) dv_flip += w * (v_node - grid.velocity_old.load(n));
+      });
       C = gathered.C(inverse_inertia(grid.inverse_dx));
       const Vec3<float>& v_pic = gathered.v;
       v = flip ? step.flip_alpha * (particles.v.load(p) + dv_flip) + (1.0f - step.flip_alpha) * v_pic : v_pic;

@@ -170,11 +170,10 @@ struct StiffnessDiagonal {
 
   ROMP_HD void operator()(const ParticleStencil& s, const Mat3<float>& F, const PrincipalStiffness<float>& stiffness,
                           float scale) const {
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k)
-          add_diagonal_share(diagonal, entries, s.nodes.node(i, j, k), transpose(F) * s.weight_gradient(i, j, k),
-                             stiffness, scale);
+    for_each_stencil_offset([&](int i, int j, int k) {
+      add_diagonal_share(diagonal, entries, s.nodes.node(i, j, k), transpose(F) * s.weight_gradient(i, j, k), stiffness,
+                         scale);
+    });
   }
 };
 
@@ -197,9 +196,8 @@ struct GatherCornerDisplacements {
     } else {
       const QuadraticStencil<float> stencil(domains.x.load(c), grid.inverse_dx);
       const StencilNodes nodes_of(stencil, grid.table);
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          for (int k = 0; k < 3; ++k) u += stencil.weight(i, j, k) * x_entries.load(nodes_of.node(i, j, k));
+      for_each_stencil_offset(
+          [&](int i, int j, int k) { u += stencil.weight(i, j, k) * x_entries.load(nodes_of.node(i, j, k)); });
     }
     displacement.store(c, u);
   }
@@ -251,9 +249,8 @@ struct ScatterCornerForces {
     }
     const QuadraticStencil<float> stencil(domains.x.load(c), grid.inverse_dx);
     const StencilNodes nodes_of(stencil, grid.table);
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k) scatter.add(out_entries, nodes_of.node(i, j, k), stencil.weight(i, j, k) * f);
+    for_each_stencil_offset(
+        [&](int i, int j, int k) { scatter.add(out_entries, nodes_of.node(i, j, k), stencil.weight(i, j, k) * f); });
   }
 };
 
@@ -382,16 +379,13 @@ struct ApplyStiffness {
                           float scale) const {
     const Vec3Planes<const float> x_entries = entry_vectors(x, entries);
     Mat3<float> displacement_gradient = Mat3<float>::zero();
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k)
-          displacement_gradient +=
-              Mat3<float>::outer(x_entries.load(s.nodes.node(i, j, k)), s.weight_gradient(i, j, k));
+    for_each_stencil_offset([&](int i, int j, int k) {
+      displacement_gradient += Mat3<float>::outer(x_entries.load(s.nodes.node(i, j, k)), s.weight_gradient(i, j, k));
+    });
     const Mat3<float> force_moment = scale * times_transpose(stiffness.apply(displacement_gradient * F), F);
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k)
-          scatter.add(entry_vectors(Kx, entries), s.nodes.node(i, j, k), force_moment * s.weight_gradient(i, j, k));
+    for_each_stencil_offset([&](int i, int j, int k) {
+      scatter.add(entry_vectors(Kx, entries), s.nodes.node(i, j, k), force_moment * s.weight_gradient(i, j, k));
+    });
   }
 };
 

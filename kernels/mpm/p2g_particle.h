@@ -50,16 +50,14 @@ struct P2GParticle {
 ROMP_HD inline void scatter_to_grid(const P2GParticle& particle, const GridView& grid) {
   const bool flip = grid.keeps_old_velocity();
   const StencilNodes nodes(particle.stencil, grid.table);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) {
-        const float w = particle.weight(i, j, k);
-        const Index n = nodes.node(i, j, k);
-        atomic_add(&grid.mass[n], w * particle.mass);
-        atomic_add(grid.velocity, n, particle.momentum_to(i, j, k, w, grid.dx));
-        // FLIP needs the transferred velocity without this step's forces.
-        if (flip) atomic_add(grid.velocity_old, n, (w * particle.mass) * particle.v);
-      }
+  for_each_stencil_offset([&](int i, int j, int k) {
+    const float w = particle.weight(i, j, k);
+    const Index n = nodes.node(i, j, k);
+    atomic_add(&grid.mass[n], w * particle.mass);
+    atomic_add(grid.velocity, n, particle.momentum_to(i, j, k, w, grid.dx));
+    // FLIP needs the transferred velocity without this step's forces.
+    if (flip) atomic_add(grid.velocity_old, n, (w * particle.mass) * particle.v);
+  });
 }
 
 }  // namespace romp::mpm

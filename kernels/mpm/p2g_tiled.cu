@@ -64,18 +64,16 @@ ROMP_HD void scatter_to_tile(const ParticleView& particles, const GridView& grid
   const bool flip = grid.keeps_old_velocity();
   const int di = particle.stencil.base[0] - origin[0], dj = particle.stencil.base[1] - origin[1],
             dk = particle.stencil.base[2] - origin[2];
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) {
-        const int node = tile_node(di + i, dj + j, dk + k);
-        const float w = particle.weight(i, j, k);
-        const Vec3<float> contribution = particle.momentum_to(i, j, k, w, grid.dx);
-        tile_add<kShared>(&tile[node], w * particle.mass);
-        for (int a = 0; a < 3; ++a) tile_add<kShared>(&tile[(1 + a) * kTileNodes + node], contribution[a]);
-        if (flip)
-          for (int a = 0; a < 3; ++a)
-            tile_add<kShared>(&tile[(4 + a) * kTileNodes + node], w * particle.mass * particle.v[a]);
-      }
+  for_each_stencil_offset([&](int i, int j, int k) {
+    const int node = tile_node(di + i, dj + j, dk + k);
+    const float w = particle.weight(i, j, k);
+    const Vec3<float> contribution = particle.momentum_to(i, j, k, w, grid.dx);
+    tile_add<kShared>(&tile[node], w * particle.mass);
+    for (int a = 0; a < 3; ++a) tile_add<kShared>(&tile[(1 + a) * kTileNodes + node], contribution[a]);
+    if (flip)
+      for (int a = 0; a < 3; ++a)
+        tile_add<kShared>(&tile[(4 + a) * kTileNodes + node], w * particle.mass * particle.v[a]);
+  });
 }
 
 // Adds tile node `node` to the grid. Nodes no particle reached (mass 0) are skipped: their block may

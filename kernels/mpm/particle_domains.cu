@@ -106,15 +106,13 @@ struct CornersToGrid {
     }
     const QuadraticStencil<float> stencil(domains.x.load(c), grid.inverse_dx);
     const StencilNodes nodes(stencil, grid.table);
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k) {
-          const float w = stencil.weight(i, j, k);
-          const Index n = nodes.node(i, j, k);
-          scatter.add(&grid.mass[n], w * mass);
-          scatter.add(grid.velocity, n, w * impulse);
-          scatter.add(grid.velocity_old, n, w * momentum);
-        }
+    for_each_stencil_offset([&](int i, int j, int k) {
+      const float w = stencil.weight(i, j, k);
+      const Index n = nodes.node(i, j, k);
+      scatter.add(&grid.mass[n], w * mass);
+      scatter.add(grid.velocity, n, w * impulse);
+      scatter.add(grid.velocity_old, n, w * momentum);
+    });
   }
 };
 
@@ -142,14 +140,12 @@ struct GridToCorners {
       } else {
         const QuadraticStencil<float> stencil(start, grid.inverse_dx);
         const StencilNodes nodes(stencil, grid.table);
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j)
-            for (int k = 0; k < 3; ++k) {
-              const float w = stencil.weight(i, j, k);
-              const Index n = nodes.node(i, j, k);
-              v += w * grid.velocity.load(n);
-              v_old += w * grid.velocity_old.load(n);
-            }
+        for_each_stencil_offset([&](int i, int j, int k) {
+          const float w = stencil.weight(i, j, k);
+          const Index n = nodes.node(i, j, k);
+          v += w * grid.velocity.load(n);
+          v_old += w * grid.velocity_old.load(n);
+        });
       }
       moved = step.dt * v;
       // A corner that would end up inside a collider stops on its surface, along the normal (Zhu et

@@ -18,10 +18,9 @@ struct AdvectTracer {
     const QuadraticStencil<float> stencil(position, grid.inverse_dx);
     const StencilNodes nodes(stencil, grid.table);
     Vec3<float> velocity = Vec3<float>::zero();
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k)
-          if (nodes.active(i, j, k)) velocity += stencil.weight(i, j, k) * grid.velocity.load(nodes.node(i, j, k));
+    for_each_stencil_offset([&](int i, int j, int k) {
+      if (nodes.active(i, j, k)) velocity += stencil.weight(i, j, k) * grid.velocity.load(nodes.node(i, j, k));
+    });
     v.store(t, velocity);
     x.store(t, kept_inside_domain(step.domain, position + step.dt * velocity, grid.dx));
   }
