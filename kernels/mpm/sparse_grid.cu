@@ -4,7 +4,6 @@
 #include <algorithm>
 
 #include "kernels/core/for_each.h"
-#include "kernels/core/memory.h"
 #include "kernels/mpm/bspline.h"
 
 namespace romp::mpm {
@@ -50,6 +49,16 @@ struct ActivateBlocksAround {
     for (int bx = low[0]; bx <= high[0]; ++bx)
       for (int by = low[1]; by <= high[1]; ++by)
         for (int bz = low[2]; bz <= high[2]; ++bz) table.insert(block_key(bx, by, bz));
+  }
+};
+
+// Zeroes every plane of an active node in one launch (a memset per plane was 4 or 7 stream operations).
+struct ClearNode {
+  GridView grid;
+  ROMP_HD void operator()(Index n) const {
+    grid.mass[n] = 0.0f;
+    grid.velocity.store(n, Vec3<float>::zero());
+    if (grid.keeps_old_velocity()) grid.velocity_old.store(n, Vec3<float>::zero());
   }
 };
 
@@ -128,16 +137,7 @@ void SparseGrid::activate_blocks(const Exec& exec, const std::function<void(cons
   clear_nodes(exec);
 }
 
-void SparseGrid::clear_nodes(const Exec& exec) {
-  // Only the active prefix of each plane is used this step.
-  const Index nodes = max_blocks_ * kNodesPerBlock;
-  const std::size_t active_bytes = std::size_t(active_nodes()) * sizeof(float);
-  memory::fill_zero(mass_.data(), backend_, active_bytes, exec.stream);
-  for (int axis = 0; axis < 3; ++axis) {
-    memory::fill_zero(velocity_.data() + axis * nodes, backend_, active_bytes, exec.stream);
-    if (keep_old_velocity_) memory::fill_zero(velocity_old_.data() + axis * nodes, backend_, active_bytes, exec.stream);
-  }
-}
+void SparseGrid::clear_nodes(const Exec& exec) { for_each(exec, active_nodes(), ClearNode{view()}); }
 
 std::size_t SparseGrid::bytes() const {
   return keys_.bytes() + slot_block_.bytes() + block_keys_.bytes() + counters_.bytes() + mass_.bytes() +
