@@ -125,6 +125,15 @@ if [ -x "$romp" ]; then
   stage run_robust_cuda 60 "$romp" --device cuda run "$root/scenes/robust/twist_compress_release.toml" \
     -o "$work/robust_cuda.h5" --no-progress
 fi
+# Hardware counters of the transfer kernels, with what is left: local-memory sectors (0 predicted since the
+# stencil loops are unrolled, gpu-notes.md), achieved occupancy and time, for the step suite's first cases.
+if command -v ncu >/dev/null && [ -x "$bench" ]; then
+  stage ncu_transfers 60 ncu --clock-control none --kernel-name-base demangled \
+    --kernel-name 'regex:ParticleToGrid|GridToParticle|tiled_block_to_grid' --launch-count 60 \
+    --metrics gpu__time_duration.sum,sm__warps_active.avg.pct_of_peak_sustained_active,l1tex__t_sectors_pipe_lsu_mem_local_op_ld.sum,l1tex__t_sectors_pipe_lsu_mem_local_op_st.sum,dram__throughput.avg.pct_of_peak_sustained_elapsed \
+    "$bench" --device cuda --suite step --scale 1 --repeats 1 --warmup 0 --out "$work/ncu-bench" --name ncu
+  quote ncu_transfers "ParticleToGrid|GridToParticle|tiled_block|local_op|warps_active|duration" 40
+fi
 pack
 say "done; ${#failed[@]} stages failed${failed[*]:+: ${failed[*]}}"
 echo "===== summary"

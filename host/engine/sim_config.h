@@ -93,7 +93,9 @@ struct FullOrderConfig : mpm::DomainConfig<float> {
   P2GKernel p2g = P2GKernel::Tiled;
   // Substeps between sorts of the particles by grid block (≥ 1; 0: the backend's choice, 1 on the CPU, where
   // a run resumed from a checkpoint must sum in the uninterrupted run's order, and kSortEveryOnCuda there).
-  // Between sorts the tiled P2G sends particles that left their block straight to the grid.
+  // Between sorts the tiled P2G sends particles that left their block straight to the grid, and (without particle
+  // domains or tracers) the grid built around the particles' blocks at the sort serves; a particle whose
+  // stencil leaves it makes the next substep sort early.
   int sort_every = 0;
   // Particle domains: corners of particles whose deformation quality (particle_domains.h) is at most
   // this become degrees of freedom of their own (dynamic enrichment); 0 turns enrichment off.

@@ -120,7 +120,8 @@ struct GridView {
   ROMP_HD bool keeps_old_velocity() const { return velocity_old.data() != nullptr; }
 };
 
-// Owner of the table and the node arrays; rebuilt from the particle positions every substep.
+// Owner of the table and the node arrays: rebuilt from the particle positions every substep, or around the
+// sorted particles' blocks with each sort and kept until a particle leaves them (FullOrderSim::grid_follows_sort).
 class SparseGrid {
  public:
   SparseGrid(Backend backend, float dx, bool keep_old_velocity);
