@@ -147,12 +147,11 @@ void FullOrderSim::substep(float dt) {
     }
   }
   // The failure slots come back with the particles' largest speed, the next CFL step's: one download.
-  last_particle_speed_ =
-      inputs_.check_stages_and_speed("", steps_, time_, particles_.view(), [this](mpm::Stage, std::int64_t slot) {
-        // Report the particle by its initial index, which is what outputs and scenes refer to.
-        const std::int32_t id = download(exec_.backend, particles_.view().id.subspan(slot, 1), exec_.stream)[0];
-        return std::pair<std::int64_t, std::string>(id, fmt::format("particle {}", id));
-      });
+  last_particle_speed_ = inputs_.check_stages_and_speed("", steps_, time_, [this](mpm::Stage, std::int64_t slot) {
+    // Report the particle by its initial index, which is what outputs and scenes refer to.
+    const std::int32_t id = download(exec_.backend, particles_.view().id.subspan(slot, 1), exec_.stream)[0];
+    return std::pair<std::int64_t, std::string>(id, fmt::format("particle {}", id));
+  });
 }
 
 void FullOrderSim::set_tracers(const std::vector<float>& X) {

@@ -178,7 +178,7 @@ void ReducedSim::substep(float dt) {
   timed([&] { latent_.project(exec_, map_, samples_, dt); });
   // One round trip: the stages' failure slots (a failure in them is reported first: the projection then
   // ran on it), the samples' largest speed (the next step's CFL) and the new [x̂ | v̂ | status].
-  const float sample_speed = inputs_.check_stages_and_speed("reduced simulation: ", steps_, time_, samples,
+  const float sample_speed = inputs_.check_stages_and_speed("reduced simulation: ", steps_, time_,
                                                             [this](mpm::Stage stage, std::int64_t slot) {
     // G2P runs over the samples and P2G over the quadrature points, reported as their material points.
     if (stage != mpm::Stage::G2P) return quadrature_->describe(exec_, slot);

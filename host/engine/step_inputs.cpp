@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "kernels/core/fill.h"
+#include "kernels/core/memory.h"
 #include "kernels/math/rotation.h"
 
 namespace romp::engine {
@@ -85,6 +86,7 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   for (const TractionSpec& spec : config.tractions)
     tractions.push_back(time >= spec.start && time < spec.end ? spec.traction : Vec3<float>::zero());
   fill(exec_, first_failure_.span().subspan(0, mpm::kStageCount), mpm::kNoFailure);
+  memory::fill_zero(first_failure_.data() + mpm::kStageCount, exec_.backend, sizeof(float), exec_.stream);
 
   mpm::StepParams step;
   step.dt = dt;
@@ -100,6 +102,7 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   step.loads = loads_.upload_front(exec_.backend, loads, exec_.stream);
   step.tractions = tractions_.upload_front(exec_.backend, tractions, exec_.stream);
   step.first_failure = first_failure_.span().subspan(0, mpm::kStageCount);
+  step.largest_speed = Span<float>(reinterpret_cast<float*>(first_failure_.data() + mpm::kStageCount), 1);
   return step;
 }
 
@@ -120,9 +123,7 @@ void StepInputs::check_stages(const std::string& who, std::int64_t step, double 
 }
 
 float StepInputs::check_stages_and_speed(const std::string& who, std::int64_t step, double time,
-                                         const mpm::ParticleView& particles, const FailureDescriber& describe) {
-  const Span<float> speed_slot(reinterpret_cast<float*>(first_failure_.data() + mpm::kStageCount), 1);
-  mpm::reduce_max_particle_speed(exec_, particles, speed_slot);
+                                         const FailureDescriber& describe) {
   const std::vector<std::int64_t> slots = first_failure_.to_host(exec_.stream);
   throw_first_failure(slots, who, step, time, describe);
   float speed;

@@ -47,16 +47,16 @@ class StepInputs {
   StepInputs(const Exec& exec, const FullOrderConfig& config);
 
   // The parameters of a substep [time, time + dt]: colliders moved to `time`, the Dirichlet motions
-  // and the loads active then, and failure slots reset to "no failure".
+  // and the loads active then, failure slots reset to "no failure" and the largest speed to 0.
   mpm::StepParams at(double time, float dt);
   // After a substep: throws NonFiniteError for the first stage that recorded a non-finite value,
   // "<who>non-finite value at step S (t = T s), stage X: <what>". Grid-update indices are reported as
   // grid nodes; every other stage's index goes through `describe`.
   void check_stages(const std::string& who, std::int64_t step, double time, const FailureDescriber& describe) const;
-  // check_stages with the largest speed of `particles` (for the next CFL step) reduced on the device and
-  // read back with the failure slots: one download for both. Returns the speed.
+  // check_stages with the largest speed the substep's moved particles stored (StepParams::largest_speed, for
+  // the next CFL step), read back with the failure slots: one download for both. Returns the speed.
   float check_stages_and_speed(const std::string& who, std::int64_t step, double time,
-                               const mpm::ParticleView& particles, const FailureDescriber& describe);
+                               const FailureDescriber& describe);
   // Room for `floats` device values after the failure slots and the speed, which check_stages_and_speed
   // reads back with them: ReducedSim keeps its [x̂ | v̂ | status] there, so a substep's checks, its next
   // CFL speed and its new state come back in one download. Call once, before the first substep.

@@ -109,14 +109,10 @@ void record_non_finite_deformation(const Exec& exec, const ParticleView& particl
            RecordNonFiniteDeformation{Mat3Planes<const float>(particles.F), step.first_failure.subspan(int(stage), 1)});
 }
 
-void reduce_max_particle_speed(const Exec& exec, const ParticleView& particles, Span<float> slot) {
+float max_particle_speed(const Exec& exec, const ParticleView& particles, Span<float> slot) {
   ROMP_CHECK(slot.size() == 1, "max_particle_speed reduces into one element");
   memory::fill_zero(slot.data(), exec.backend, sizeof(float), exec.stream);
   for_each(exec, particles.count, MaxSpeed{Vec3Planes<const float>(particles.v), slot});
-}
-
-float max_particle_speed(const Exec& exec, const ParticleView& particles, Span<float> slot) {
-  reduce_max_particle_speed(exec, particles, slot);
   return download(exec.backend, slot, exec.stream)[0];
 }
 

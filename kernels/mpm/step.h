@@ -94,6 +94,9 @@ struct StepParams {
   // Per traction (ParticleView::traction): its traction now, Pa per reference area, 0 while inactive.
   Span<const Vec3<float>> tractions;
   Span<std::int64_t> first_failure;  // kStageCount slots, kNoFailure until a stage sees a non-finite value
+  // Where moved particles record the largest speed they store (the next CFL step's), as float bits >= 0 that
+  // start at 0; empty: not recorded.
+  Span<float> largest_speed;
   // The first Piola stress of every particle whose material is MaterialModel::Neural, in this
   // substep's particle order (the host evaluates it after the sort); empty when no material is.
   Mat3Planes<const float> host_stress;
@@ -142,8 +145,9 @@ void project_plasticity(const Exec& exec, const ParticleView& particles, const S
 void record_non_finite_deformation(const Exec& exec, const ParticleView& particles, const StepParams& step,
                                    Stage stage);
 
-// Stores a particle's new state, recording it as G2P's failure when any of it is not finite: the end
-// of grid_to_particle and of corners_to_particles.
+// Stores a particle's new state, recording it as G2P's failure when any of it is not finite, and its speed in
+// step.largest_speed: the end of grid_to_particle and of corners_to_particles, so no pass of its own reads the
+// velocities again for the CFL step.
 ROMP_HD inline void store_moved_particle(const ParticleView& particles, const StepParams& step, Index p,
                                          const Vec3<float>& x, const Vec3<float>& v, const Mat3<float>& C,
                                          const Mat3<float>& F) {
@@ -153,12 +157,13 @@ ROMP_HD inline void store_moved_particle(const ParticleView& particles, const St
   particles.v.store(p, v);
   particles.C.store(p, C);
   particles.F.store(p, F);
+  // Speeds are >= 0, so the float max of their values is the max of the speeds.
+  if (!step.largest_speed.empty()) atomic_max(&step.largest_speed[0], norm(v));
 }
 
-// The largest particle speed (for the CFL condition), reduced in `slot` (one element of the backend's
-// memory, kept by the caller so that a substep allocates nothing); synchronises with the host.
+// The largest particle speed (for the CFL condition before a first substep has recorded it), reduced in
+// `slot` (one element of the backend's memory, kept by the caller so that a substep allocates nothing);
+// synchronises with the host.
 float max_particle_speed(const Exec& exec, const ParticleView& particles, Span<float> slot);
-// The same reduction left in `slot` on the device, for a caller that reads it back with other results.
-void reduce_max_particle_speed(const Exec& exec, const ParticleView& particles, Span<float> slot);
 
 }  // namespace romp::mpm
