@@ -6,6 +6,7 @@
 #include <array>
 #include <random>
 #include <set>
+#include <utility>
 #include <vector>
 
 #include "kernels/core/for_each.h"
@@ -40,6 +41,19 @@ std::set<std::uint64_t> expected_blocks(const std::vector<float>& x, Index n) {
               block_key((s.base[0] + i) / kBlockSide, (s.base[1] + j) / kBlockSide, (s.base[2] + k) / kBlockSide));
   }
   return blocks;
+}
+
+// Unit-mass, unit-volume particles of material 0 at positions x with velocities v (three planes each).
+ParticleInit unit_particles(std::vector<float> x, std::vector<float> v) {
+  const Index n = Index(x.size() / 3);
+  ParticleInit init;
+  init.x = std::move(x);
+  init.v = std::move(v);
+  init.mass.assign(n, 1.0f);
+  init.volume0.assign(n, 1.0f);
+  init.material.assign(n, 0);
+  init.dirichlet_group.assign(n, kNoDirichletGroup);
+  return init;
 }
 
 struct FindEachBlock {
@@ -128,14 +142,8 @@ TEST(SparseGrid, StencilWithinBlocksAroundAllowsFourNodesDownAndTwoUp) {
 TEST(SparseGrid, GridAroundSortedBlocksHoldsTheStencilsOfParticlesThatDrifted) {
   const Exec& exec = test::exec();
   const Index n = 4000;
-  ParticleInit init;
-  init.x = random_positions(n, 8 * kDx, 0.5f, 21);
-  init.v.assign(3 * n, 0.0f);
-  init.mass.assign(n, 1.0f);
-  init.volume0.assign(n, 1.0f);
-  init.material.assign(n, 0);
-  init.dirichlet_group.assign(n, kNoDirichletGroup);
-  ParticleSet particles(exec.backend, init);
+  ParticleSet particles(exec.backend,
+                        unit_particles(random_positions(n, 8 * kDx, 0.5f, 21), std::vector<float>(3 * n)));
   particles.sort_by_block(exec, 1.0f / kDx);
   SparseGrid grid(exec.backend, kDx, false);
   grid.rebuild_around_blocks(exec, particles.block_starts(), particles.sorted_block_keys());
@@ -167,13 +175,8 @@ TEST(SparseGrid, GridAroundSortedBlocksHoldsTheStencilsOfParticlesThatDrifted) {
 TEST(ParticleSet, BlockSortIsAPermutationThatCanBeUndone) {
   const Exec& exec = test::exec();
   const Index n = 5000;
-  ParticleInit init;
-  init.x = random_positions(n, 2 * kDx, 1.0f - 2 * kDx, 11);
-  init.v = random_positions(n, -1.0f, 1.0f, 12);
-  init.mass.assign(n, 1.0f);
-  init.volume0.assign(n, 1.0f);
-  init.material.assign(n, 0);
-  init.dirichlet_group.assign(n, kNoDirichletGroup);
+  const ParticleInit init =
+      unit_particles(random_positions(n, 2 * kDx, 1.0f - 2 * kDx, 11), random_positions(n, -1.0f, 1.0f, 12));
   ParticleSet particles(exec.backend, init);
   particles.sort_by_block(exec, 1.0f / kDx);
 
