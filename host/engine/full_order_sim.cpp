@@ -146,7 +146,8 @@ void FullOrderSim::substep(float dt) {
       enrichment_.largest_share_step = steps_;
     }
   }
-  // The failure slots come back with the particles' largest speed, the next CFL step's: one download.
+  // The failure slots come back with the particles' largest speed, the next CFL step's, and (with a kept grid)
+  // whether a particle left it: one download.
   last_particle_speed_ = inputs_.check_stages_and_speed("", steps_, time_, [this](mpm::Stage, std::int64_t slot) {
     // Report the particle by its initial index, which is what outputs and scenes refer to.
     const std::int32_t id = download(exec_.backend, particles_.view().id.subspan(slot, 1), exec_.stream)[0];

@@ -50,6 +50,7 @@ struct GridToParticle {
   }
 
   ROMP_HD void record_left_grid(Index p, const Vec3<float>& x) const {
+    if (!is_finite(x)) return;  // already G2P's failure: the run stops after this substep
     int base[3];
     for (int a = 0; a < 3; ++a) base[a] = QuadraticStencil<float>::base_node(x[a] * grid.inverse_dx);
     if (!stencil_within_blocks_around(base, coverage.sorted_keys[p])) atomic_max(&coverage.left[0], 1.0f);
