@@ -14,6 +14,13 @@ constexpr Index kInitialBlocks = 256;
 // Storage is shrunk when it exceeds the active blocks by this factor (and grown by 2 when short).
 constexpr Index kShrinkFactor = 8;
 
+// Inserts every block of the box [low, high] (block coordinates, inclusive on each axis).
+ROMP_HD_INLINE void insert_block_box(const BlockTableView& table, const int low[3], const int high[3]) {
+  for (int bx = low[0]; bx <= high[0]; ++bx)
+    for (int by = low[1]; by <= high[1]; ++by)
+      for (int bz = low[2]; bz <= high[2]; ++bz) table.insert(block_key(bx, by, bz));
+}
+
 struct ActivateStencilBlocks {
   Vec3Planes<const float> positions;
   BlockTableView table;
@@ -26,9 +33,7 @@ struct ActivateStencilBlocks {
       low[a] = stencil.base[a] / kBlockSide;         // base >= 0 inside the domain
       high[a] = (stencil.base[a] + 2) / kBlockSide;  // the stencil spans 3 nodes: at most 2 blocks per axis
     }
-    for (int bx = low[0]; bx <= high[0]; ++bx)
-      for (int by = low[1]; by <= high[1]; ++by)
-        for (int bz = low[2]; bz <= high[2]; ++bz) table.insert(block_key(bx, by, bz));
+    insert_block_box(table, low, high);
   }
 };
 
@@ -46,9 +51,7 @@ struct ActivateBlocksAround {
       low[a] = block_coordinate(key, a) > 0 ? block_coordinate(key, a) - 1 : 0;
       high[a] = block_coordinate(key, a) + 1;
     }
-    for (int bx = low[0]; bx <= high[0]; ++bx)
-      for (int by = low[1]; by <= high[1]; ++by)
-        for (int bz = low[2]; bz <= high[2]; ++bz) table.insert(block_key(bx, by, bz));
+    insert_block_box(table, low, high);
   }
 };
 
