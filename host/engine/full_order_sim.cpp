@@ -28,7 +28,7 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
   ROMP_CHECK(config_.sort_every >= 0,
              fmt::format("sort_every must be >= 0 (0: the backend's choice), got {}", config_.sort_every));
   sort_every_ = config_.sort_every > 0 ? config_.sort_every : exec.is_cuda() ? kSortEveryOnCuda : 1;
-  if (sort_every_ > 1) left_grid_slot_ = inputs_.reserve_readback(1);
+  if (sort_every_ > 1) left_grid_slot_ = inputs_.reserve_readback(1).values;
   if (!init.domains.empty()) domains_.emplace(exec.backend, init.domains);
   released_.assign(config_.dirichlet.size(), false);
   if (config_.integrator == Integrator::Implicit) implicit_.emplace(exec.backend, config_.implicit);
@@ -148,7 +148,8 @@ void FullOrderSim::substep(float dt) {
   }
   // The failure slots come back with the particles' largest speed, the next CFL step's, and (with a kept grid)
   // whether a particle left it: one download.
-  last_particle_speed_ = inputs_.check_stages_and_speed("", steps_, time_, [this](mpm::Stage, std::int64_t slot) {
+  last_particle_speed_ = inputs_.read_back();
+  inputs_.check_stages("", steps_, time_, [this](mpm::Stage, std::int64_t slot) {
     // Report the particle by its initial index, which is what outputs and scenes refer to.
     const std::int32_t id = download(exec_.backend, particles_.view().id.subspan(slot, 1), exec_.stream)[0];
     return std::pair<std::int64_t, std::string>(id, fmt::format("particle {}", id));

@@ -35,14 +35,14 @@ class ReducedQuadrature {
   virtual mpm::ParticleView build(const Exec& exec, const DeformationMap& map, const SampleSet& samples,
                                   Span<const float> xhat, Span<const float> vhat) = 0;
 
-  // The material points of the last build whose positions g gave (they must lie inside the domain):
-  // positions (3 planes of count), and their material point indices (empty: point i is material point i).
+  // The material points of the last build whose positions g gave (they must lie inside the domain; the
+  // substep moves them there when they do not): positions, none for Eulerian points, which lie in cells by
+  // construction, and their material point indices (empty: point i is material point i).
   struct MaterialPositions {
-    const DeviceBuffer<float>* x = nullptr;  // none for Eulerian points, which lie in cells by construction
-    Index count = 0;
+    Vec3Planes<float> x;
     Span<const std::int32_t> index;
   };
-  virtual MaterialPositions material_positions() const = 0;
+  virtual MaterialPositions material_positions() = 0;
 
   // How a failure report names point `slot` of the last build's P2G: its material point (−1 for none)
   // and a description (may download the point).
@@ -59,7 +59,7 @@ class LagrangianQuadrature final : public ReducedQuadrature {
 
   mpm::ParticleView build(const Exec& exec, const DeformationMap& map, const SampleSet& samples, Span<const float> xhat,
                           Span<const float> vhat) override;
-  MaterialPositions material_positions() const override;
+  MaterialPositions material_positions() override;
   std::pair<std::int64_t, std::string> describe(const Exec& exec, std::int64_t slot) const override;
   Index last_count() const override { return points_.count; }
 
@@ -100,7 +100,7 @@ class EulerianQuadrature final : public ReducedQuadrature {
 
   mpm::ParticleView build(const Exec& exec, const DeformationMap& map, const SampleSet& samples, Span<const float> xhat,
                           Span<const float> vhat) override;
-  MaterialPositions material_positions() const override { return {}; }
+  MaterialPositions material_positions() override { return {}; }
   std::pair<std::int64_t, std::string> describe(const Exec& exec, std::int64_t slot) const override;
   Index last_count() const override { return points_.count; }
 

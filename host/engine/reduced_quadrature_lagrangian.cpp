@@ -55,8 +55,9 @@ mpm::ParticleView LagrangianQuadrature::build(const Exec& exec, const Deformatio
   return points_.view();
 }
 
-ReducedQuadrature::MaterialPositions LagrangianQuadrature::material_positions() const {
-  return {&points_.x, points_.count, search_ ? index_.prefix(points_.count) : Span<const std::int32_t>()};
+ReducedQuadrature::MaterialPositions LagrangianQuadrature::material_positions() {
+  return {Vec3Planes<float>(points_.x.data(), points_.count),
+          search_ ? index_.prefix(points_.count) : Span<const std::int32_t>()};
 }
 
 std::pair<std::int64_t, std::string> LagrangianQuadrature::describe(const Exec& exec, std::int64_t slot) const {

@@ -103,6 +103,7 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
     : exec_(exec),
       config_(checked_config(std::move(config), reference, map, xhat, options)),
       inputs_(exec, config_),
+      readback_(inputs_.reserve_readback(2 * int(xhat.size()) + 1, /*slots=*/2)),
       grid_(exec.backend, config_.dx, /*keep_old_velocity=*/false),
       options_(options),
       map_(exec.backend, std::move(map)),
@@ -110,9 +111,7 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
       samples_(reference, Index(config_.dirichlet.size()), options.samples, options.boundary_samples, options.seed,
                map_.latent()),
       latent_(exec.backend, xhat, options.projection == RomProjection::PositionVelocity,
-              {options.gauss_newton_iterations, options.gauss_newton_tolerance},
-              inputs_.reserve_readback(2 * int(xhat.size()) + 1)),
-      first_outside_(exec.backend, 2),
+              {options.gauss_newton_iterations, options.gauss_newton_tolerance}, readback_.values),
       xhat_(std::move(xhat)),
       stage_timeline_(exec) {
   if (options_.quadrature == RomQuadrature::Lagrangian) {
@@ -160,9 +159,11 @@ void ReducedSim::substep(float dt) {
   mpm::ParticleView quadrature;
   timed([&] {
     samples_.decode(exec_, map_, latent_.xhat(), latent_.vhat());
+    const Vec3Planes<float> sample_x(samples_.points().x.data(), m);
+    keep_inside_domain(sample_x, {});  // before the quadrature is placed around the samples
     quadrature = quadrature_->build(exec_, map_, samples_, latent_.xhat(), latent_.vhat());
+    keep_inside_domain({}, quadrature_->material_positions().x);
   });
-  check_inside_domain(samples_.points().x, m, samples_.index(), quadrature_->material_positions());
   // Alg. 5: P2G from the quadrature points, the grid update, G2P at the samples. The grid is built from
   // the samples too: an Eulerian sample is not a quadrature point (ROM paper, Fig. 6), and near the body's
   // surface its stencil can reach a block no quadrature point touches. G2P must find that block active
@@ -176,10 +177,12 @@ void ReducedSim::substep(float dt) {
   timed([&] { mpm::grid_to_particle(exec_, samples, grid, step); });
   // Alg. 6 / 7: v̂_{n+1} and x̂_{n+1}, solved where the system is.
   timed([&] { latent_.project(exec_, map_, samples_, dt); });
-  // One round trip: the stages' failure slots (a failure in them is reported first: the projection then
-  // ran on it), the samples' largest speed (the next step's CFL) and the new [x̂ | v̂ | status].
-  const float sample_speed = inputs_.check_stages_and_speed("reduced simulation: ", steps_, time_,
-                                                            [this](mpm::Stage stage, std::int64_t slot) {
+  // One round trip: the points outside the domain and the stages' failure slots (reported in this order,
+  // and before the projection's result: each later stage ran on what the earlier one found), the samples'
+  // largest speed (the next step's CFL) and the new [x̂ | v̂ | status].
+  const float sample_speed = inputs_.read_back();
+  throw_if_outside_domain();
+  inputs_.check_stages("reduced simulation: ", steps_, time_, [this](mpm::Stage stage, std::int64_t slot) {
     // G2P runs over the samples and P2G over the quadrature points, reported as their material points.
     if (stage != mpm::Stage::G2P) return quadrature_->describe(exec_, slot);
     const std::int64_t point = download(exec_.backend, samples_.index().subspan(slot, 1), exec_.stream)[0];
@@ -205,41 +208,44 @@ void ReducedSim::check_latent(const char* stage) const {
                          steps_, mpm::Stage::G2P, -1);
 }
 
-void ReducedSim::check_inside_domain(const DeviceBuffer<float>& sample_x, Index samples, Span<const std::int32_t> index,
-                                     const ReducedQuadrature::MaterialPositions& quadrature) {
-  // The band the full-order step keeps particles in (mpm::kept_inside_domain).
+void ReducedSim::keep_inside_domain(Vec3Planes<float> sample_x, Vec3Planes<float> quadrature_x) {
+  const mpm::Domain domain = config_.domain();
+  rom::keep_points_inside(exec_, sample_x, domain, config_.dx, readback_.slots.subspan(0, 1));
+  rom::keep_points_inside(exec_, quadrature_x, domain, config_.dx, readback_.slots.subspan(1, 1));
+}
+
+void ReducedSim::throw_if_outside_domain() {
+  const std::vector<std::int64_t>& slots = inputs_.readback_slots();
+  const int set = slots[0] != rom::kNoPointOutside ? 0 : slots[1] != rom::kNoPointOutside ? 1 : -1;
+  if (set < 0) return;
+  const std::int64_t slot = slots[std::size_t(set)];
+  const Span<const std::int32_t> points = set == 0 ? samples_.index() : quadrature_->material_positions().index;
+  const std::int64_t point = points.empty() ? slot : download(exec_.backend, points.subspan(slot, 1), exec_.stream)[0];
+  // g at the point's reference position and the substep's x̂ (xhat_ until the substep succeeds).
+  const Index n = reference_.count;
+  std::vector<float> X(3);
+  for (int a = 0; a < 3; ++a)
+    X[std::size_t(a)] = download(exec_.backend, reference_.X.span().subspan(a * n + point, 1), exec_.stream)[0];
+  const DeviceBuffer<float> X_device = DeviceBuffer<float>::from_host(exec_.backend, X, exec_.stream);
+  const DeviceBuffer<float> xhat = DeviceBuffer<float>::from_host(exec_.backend, xhat_, exec_.stream);
+  DeviceBuffer<float> x(exec_.backend, 3);
+  map_.evaluate(exec_, xhat.span(), Vec3Planes<const float>(X_device.data(), 1),
+                {Vec3Planes<float>(x.data(), 1), {}, {}});
+  const std::vector<float> position = x.to_host(exec_.stream);
   const mpm::Domain domain = config_.domain();
   Vec3<float> low, high;
   for (int a = 0; a < 3; ++a) {
     low[a] = domain.low_bound(config_.dx);
     high[a] = domain.high_bound(a, config_.dx);
   }
-  // Both sets searched on the device, their results read back together.
-  fill(exec_, first_outside_.span(), rom::kNoPointOutside);
-  rom::find_point_outside(exec_, Vec3Planes<const float>(sample_x.data(), samples), low, high,
-                          first_outside_.span().subspan(0, 1));
-  if (quadrature.x)
-    rom::find_point_outside(exec_, Vec3Planes<const float>(quadrature.x->data(), quadrature.count), low, high,
-                            first_outside_.span().subspan(1, 1));
-  const std::vector<std::int64_t> slots = first_outside_.to_host(exec_.stream);
-  for (int set = 0; set < 2; ++set) {
-    const std::int64_t slot = slots[std::size_t(set)];
-    if (slot == rom::kNoPointOutside) continue;
-    const DeviceBuffer<float>& x = set == 0 ? sample_x : *quadrature.x;
-    const Index count = set == 0 ? samples : quadrature.count;
-    const Span<const std::int32_t> points = set == 0 ? index : quadrature.index;
-    const std::int64_t point =
-        points.empty() ? slot : download(exec_.backend, points.subspan(slot, 1), exec_.stream)[0];
-    const std::vector<float> positions = x.to_host(exec_.stream);
-    throw NonFiniteError(
-        fmt::format(
-            "reduced simulation: material point {} decodes to ({:.4g}, {:.4g}, {:.4g}) m at step {} (t = {:.6g} "
-            "s), outside the domain's interior [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] m: x̂ = [{}] "
-            "has left the states the map describes (the reduced dynamics diverged)",
-            point, positions[slot], positions[count + slot], positions[2 * count + slot], steps_, time_, low[0],
-            high[0], low[1], high[1], low[2], high[2], fmt::join(xhat_, ", ")),
-        steps_, mpm::Stage::P2G, point);
-  }
+  throw NonFiniteError(
+      fmt::format(
+          "reduced simulation: material point {} decodes to ({:.4g}, {:.4g}, {:.4g}) m at step {} (t = {:.6g} "
+          "s), outside the domain's interior [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] m: x̂ = [{}] "
+          "has left the states the map describes (the reduced dynamics diverged)",
+          point, position[0], position[1], position[2], steps_, time_, low[0], high[0], low[1], high[1], low[2],
+          high[2], fmt::join(xhat_, ", ")),
+      steps_, mpm::Stage::P2G, point);
 }
 
 std::vector<std::pair<std::string, double>> ReducedSim::stage_seconds() const {

@@ -143,11 +143,14 @@ class ReducedSim {
  private:
   // Throws NonFiniteError when x̂ or v̂ is not finite after `stage`.
   void check_latent(const char* stage) const;
-  // Throws NonFiniteError naming the material point when one of the samples' positions (3 planes of
-  // `samples`, `index` their material points) or of the quadrature's material points lies outside the
-  // grid's interior: x̂ has gone where the map no longer describes the body. One download for both.
-  void check_inside_domain(const DeviceBuffer<float>& sample_x, Index samples, Span<const std::int32_t> index,
-                           const ReducedQuadrature::MaterialPositions& quadrature);
+  // Moves the samples' positions (3 planes of `samples`) back inside the grid's interior, noting the first
+  // that was outside in readback_.slots[0], and likewise the quadrature's material points in slots[1]
+  // (rom::keep_points_inside): the substep goes on without waiting, on positions the grid can hold.
+  void keep_inside_domain(Vec3Planes<float> sample_x, Vec3Planes<float> quadrature_x);
+  // After the read-back: throws NonFiniteError naming the first material point that was outside (x̂ has
+  // gone where the map no longer describes the body), samples first, with its position decoded afresh at
+  // the substep's x̂ (the step moved it inside).
+  void throw_if_outside_domain();
   // The error of a projection whose normal equations have no solution.
   Error singular_projection() const;
   rom::QuadratureTally quadrature_tally() const;
@@ -155,6 +158,9 @@ class ReducedSim {
   Exec exec_;
   FullOrderConfig config_;
   StepInputs inputs_;
+  // Read back with the failure slots: [x̂ | v̂ | status] (latent_'s) and the first sample and quadrature
+  // material point outside the domain (keep_inside_domain's).
+  StepInputs::Readback readback_;
   mpm::SparseGrid grid_;
   ReducedOptions options_;
   DeformationMap map_;
@@ -165,7 +171,6 @@ class ReducedSim {
   std::optional<EulerianQuadrature> eulerian_;
   ReducedQuadrature* quadrature_ = nullptr;
   LatentProjection latent_;
-  DeviceBuffer<std::int64_t> first_outside_;  // rom::find_point_outside's: the samples', the quadrature's
 
   std::vector<float> xhat_, vhat_;  // the device's [x̂ | v̂] after the last substep
   float max_sample_speed_ = 0.0f;

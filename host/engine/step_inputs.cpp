@@ -85,8 +85,8 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   std::vector<Vec3<float>> tractions;
   for (const TractionSpec& spec : config.tractions)
     tractions.push_back(time >= spec.start && time < spec.end ? spec.traction : Vec3<float>::zero());
-  fill(exec_, first_failure_.span().subspan(0, mpm::kStageCount), mpm::kNoFailure);
-  memory::fill_zero(first_failure_.data() + mpm::kStageCount, exec_.backend, sizeof(float), exec_.stream);
+  fill(exec_, first_failure_.span().subspan(0, speed_slot()), mpm::kNoFailure);
+  memory::fill_zero(first_failure_.data() + speed_slot(), exec_.backend, sizeof(float), exec_.stream);
 
   mpm::StepParams step;
   step.dt = dt;
@@ -102,7 +102,7 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   step.loads = loads_.upload_front(exec_.backend, loads, exec_.stream);
   step.tractions = tractions_.upload_front(exec_.backend, tractions, exec_.stream);
   step.first_failure = first_failure_.span().subspan(0, mpm::kStageCount);
-  step.largest_speed = Span<float>(reinterpret_cast<float*>(first_failure_.data() + mpm::kStageCount), 1);
+  step.largest_speed = Span<float>(reinterpret_cast<float*>(first_failure_.data() + speed_slot()), 1);
   return step;
 }
 
@@ -116,38 +116,36 @@ const char* stage_name(mpm::Stage stage) {
   return "unknown";
 }
 
-void StepInputs::check_stages(const std::string& who, std::int64_t step, double time,
-                              const FailureDescriber& describe) const {
-  throw_first_failure(download(exec_.backend, first_failure_.span().subspan(0, mpm::kStageCount), exec_.stream), who,
-                      step, time, describe);
-}
-
-float StepInputs::check_stages_and_speed(const std::string& who, std::int64_t step, double time,
-                                         const FailureDescriber& describe) {
+float StepInputs::read_back() {
   const std::vector<std::int64_t> slots = first_failure_.to_host(exec_.stream);
-  throw_first_failure(slots, who, step, time, describe);
+  const auto readback_start = slots.begin() + mpm::kStageCount;
+  stage_failures_.assign(slots.begin(), readback_start);
+  std::copy(readback_start, readback_start + Index(readback_slots_.size()), readback_slots_.begin());
   float speed;
-  std::memcpy(&speed, &slots[mpm::kStageCount], sizeof speed);
-  if (!readback_.empty()) std::memcpy(readback_.data(), &slots[mpm::kStageCount + 1], readback_.size() * sizeof(float));
+  std::memcpy(&speed, &slots[std::size_t(speed_slot())], sizeof speed);
+  if (!readback_.empty())
+    std::memcpy(readback_.data(), &slots[std::size_t(speed_slot()) + 1], readback_.size() * sizeof(float));
   return speed;
 }
 
-Span<float> StepInputs::reserve_readback(int floats) {
-  ROMP_CHECK(floats >= 1 && readback_.empty(), "reserve_readback: once, for at least one value");
-  first_failure_ = DeviceBuffer<std::int64_t>(exec_.backend, mpm::kStageCount + 1 + (floats + 1) / 2);
+StepInputs::Readback StepInputs::reserve_readback(int floats, int slots) {
+  ROMP_CHECK(floats >= 1 && slots >= 0 && readback_.empty(), "reserve_readback: once, for at least one value");
+  readback_slots_.assign(std::size_t(slots), mpm::kNoFailure);
   readback_.assign(std::size_t(floats), 0.0f);
-  return Span<float>(reinterpret_cast<float*>(first_failure_.data() + mpm::kStageCount + 1), floats);
+  first_failure_ = DeviceBuffer<std::int64_t>(exec_.backend, speed_slot() + 1 + (floats + 1) / 2);
+  return {first_failure_.span().subspan(mpm::kStageCount, slots),
+          Span<float>(reinterpret_cast<float*>(first_failure_.data() + speed_slot() + 1), floats)};
 }
 
-void StepInputs::throw_first_failure(const std::vector<std::int64_t>& failures, const std::string& who,
-                                     std::int64_t step, double time, const FailureDescriber& describe) const {
-  for (int s = 0; s < mpm::kStageCount; ++s) {
-    if (failures[s] == mpm::kNoFailure) continue;
+void StepInputs::check_stages(const std::string& who, std::int64_t step, double time,
+                              const FailureDescriber& describe) const {
+  for (std::size_t s = 0; s < stage_failures_.size(); ++s) {
+    const std::int64_t failure = stage_failures_[s];
+    if (failure == mpm::kNoFailure) continue;
     const auto stage = mpm::Stage(s);
-    const auto [index, what] =
-        stage == mpm::Stage::GridUpdate
-            ? std::pair<std::int64_t, std::string>(failures[s], fmt::format("grid node {}", failures[s]))
-            : describe(stage, failures[s]);
+    const auto [index, what] = stage == mpm::Stage::GridUpdate
+                                   ? std::pair<std::int64_t, std::string>(failure, fmt::format("grid node {}", failure))
+                                   : describe(stage, failure);
     throw NonFiniteError(fmt::format("{}non-finite value at step {} (t = {:.6g} s), stage {}: {}", who, step, time,
                                      stage_name(stage), what),
                          step, stage, index);

@@ -49,19 +49,25 @@ class StepInputs {
   // The parameters of a substep [time, time + dt]: colliders moved to `time`, the Dirichlet motions
   // and the loads active then, failure slots reset to "no failure" and the largest speed to 0.
   mpm::StepParams at(double time, float dt);
-  // After a substep: throws NonFiniteError for the first stage that recorded a non-finite value,
-  // "<who>non-finite value at step S (t = T s), stage X: <what>". Grid-update indices are reported as
-  // grid nodes; every other stage's index goes through `describe`.
+  // After a substep, one download: the stages' failure slots, the largest speed the substep's moved
+  // particles stored (StepParams::largest_speed, for the next CFL step), and what reserve_readback added.
+  // Returns the speed.
+  float read_back();
+  // Throws NonFiniteError for the first stage whose slot, as read_back read it, recorded a non-finite
+  // value: "<who>non-finite value at step S (t = T s), stage X: <what>". Grid-update indices are reported
+  // as grid nodes; every other stage's index goes through `describe`.
   void check_stages(const std::string& who, std::int64_t step, double time, const FailureDescriber& describe) const;
-  // check_stages with the largest speed the substep's moved particles stored (StepParams::largest_speed, for
-  // the next CFL step), read back with the failure slots: one download for both. Returns the speed.
-  float check_stages_and_speed(const std::string& who, std::int64_t step, double time,
-                               const FailureDescriber& describe);
-  // Room for `floats` device values after the failure slots and the speed, which check_stages_and_speed
-  // reads back with them: ReducedSim keeps its [x̂ | v̂ | status] there, so a substep's checks, its next
-  // CFL speed and its new state come back in one download. Call once, before the first substep.
-  Span<float> reserve_readback(int floats);
-  // Those values as the last check_stages_and_speed read them.
+  // Room that read_back reads with the failure slots, so that a substep's checks, its next CFL speed and
+  // its results come back in one download: `slots` more failure slots (reset to mpm::kNoFailure by `at`,
+  // as the stages' are; ReducedSim's points outside the domain) and `floats` values (ReducedSim's
+  // [x̂ | v̂ | status], FullOrderSim's "a particle left the grid"). Call once, before the first substep.
+  struct Readback {
+    Span<std::int64_t> slots;
+    Span<float> values;
+  };
+  Readback reserve_readback(int floats, int slots = 0);
+  // Those slots and values as the last read_back read them.
+  const std::vector<std::int64_t>& readback_slots() const { return readback_slots_; }
   const std::vector<float>& readback() const { return readback_; }
 
   bool plastic() const { return plastic_; }
@@ -82,13 +88,14 @@ class StepInputs {
   DeviceBuffer<mpm::RigidMotion> dirichlet_;
   DeviceBuffer<mpm::RegionLoad> loads_;
   DeviceBuffer<Vec3<float>> tractions_;
-  // kStageCount failure slots, then one slot whose first 4 bytes hold a float speed, then the readback's
-  // floats (two per slot).
+  // kStageCount failure slots, the readback's slots, one slot whose first 4 bytes hold a float speed, then
+  // the readback's floats (two per slot).
   DeviceBuffer<std::int64_t> first_failure_;
+  std::vector<std::int64_t> stage_failures_, readback_slots_;
   std::vector<float> readback_;
 
-  void throw_first_failure(const std::vector<std::int64_t>& failures, const std::string& who, std::int64_t step,
-                           double time, const FailureDescriber& describe) const;
+  // The speed's slot: after the failure slots and the readback's slots.
+  Index speed_slot() const { return mpm::kStageCount + Index(readback_slots_.size()); }
 };
 
 // Substeps until `time` reaches t: `substep(dt)` advances `time` by dt, `stable_dt()` says how far it

@@ -46,25 +46,29 @@ struct AdvanceLatent {
   }
 };
 
-struct FindPointOutside {
-  Vec3Planes<const float> x;
-  Vec3<float> low, high;
+struct KeepPointInside {
+  Vec3Planes<float> x;
+  mpm::Domain domain;
+  float dx;
   Span<std::int64_t> first;
   ROMP_HD void operator()(Index p) const {
     const Vec3<float> position = x.load(p);
+    const Vec3<float> kept = mpm::kept_inside_domain(domain, position, dx);
     bool inside = true;
-    // Written so that NaN compares as outside.
-    for (int a = 0; a < 3; ++a) inside = inside && position[a] >= low[a] && position[a] <= high[a];
-    if (!inside) atomic_min(&first[0], std::int64_t(p));
+    // Written so that NaN (kept at the low bound) compares as moved.
+    for (int a = 0; a < 3; ++a) inside = inside && kept[a] == position[a];
+    if (inside) return;
+    atomic_min(&first[0], std::int64_t(p));
+    x.store(p, kept);
   }
 };
 
 }  // namespace
 
-void find_point_outside(const Exec& exec, Vec3Planes<const float> x, Vec3<float> low, Vec3<float> high,
+void keep_points_inside(const Exec& exec, Vec3Planes<float> x, const mpm::Domain& domain, float dx,
                         Span<std::int64_t> first) {
-  ROMP_CHECK(first.size() >= 1, "find_point_outside needs one slot");
-  if (x.count() > 0) for_each(exec, x.count(), FindPointOutside{x, low, high, first});
+  ROMP_CHECK(first.size() >= 1, "keep_points_inside needs one slot");
+  if (x.count() > 0) for_each(exec, x.count(), KeepPointInside{x, domain, dx, first});
 }
 
 void latent_to_point_velocity(const Exec& exec, int latent, Span<const float> dg_dxhat, Span<const float> vhat,

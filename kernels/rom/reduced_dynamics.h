@@ -8,6 +8,7 @@
 #include "kernels/core/exec.h"
 #include "kernels/core/span.h"
 #include "kernels/math/mat3_planes.h"
+#include "kernels/mpm/domain_walls.h"
 
 namespace romp::rom {
 
@@ -32,11 +33,14 @@ void normal_equations(const Exec& exec, int latent, Span<const float> dg_dxhat, 
 inline constexpr float kLatentSolved = 0.0f, kLatentSingular = 1.0f;
 void advance_latent(const Exec& exec, int latent_size, Span<double> system, float dt, Span<float> latent);
 
-// Lowers first[0] (set to kNoPointOutside beforehand) to the lowest index of the n points outside the box
-// [low, high] on some axis; a non-finite coordinate counts as outside. The reduced state decodes to points
-// anywhere its map sends them, so this is how a run finds that x̂ has left what the grid can hold.
+// Lowers first[0] (set to kNoPointOutside beforehand) to the lowest index of the n points outside the band
+// the full-order step keeps particles in (mpm::kept_inside_domain), a non-finite coordinate counting as
+// outside, and moves each such point back into it as that step would. The reduced state decodes to points
+// anywhere its map sends them: this is how a run finds that x̂ has left what the grid can hold without
+// waiting for the answer, since the substep's later stages then see only positions the grid holds. The
+// substep is rejected once the slot is read back, so the moved points' motion is never kept.
 inline constexpr std::int64_t kNoPointOutside = INT64_MAX;
-void find_point_outside(const Exec& exec, Vec3Planes<const float> x, Vec3<float> low, Vec3<float> high,
+void keep_points_inside(const Exec& exec, Vec3Planes<float> x, const mpm::Domain& domain, float dx,
                         Span<std::int64_t> first);
 
 }  // namespace romp::rom

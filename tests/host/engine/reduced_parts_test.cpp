@@ -123,7 +123,9 @@ TEST(LagrangianQuadrature, EveryPointOrTheSamplesNeighboursAtTheirDecodedPlaces)
   const mpm::ParticleView all = every.build(test::exec(), map, samples, xhat, vhat);
   EXPECT_EQ(all.count, n);
   EXPECT_EQ(every.material_positions().index.size(), 0);
-  const std::vector<float> x = every.material_positions().x->to_host();
+  const Vec3Planes<float> positions = every.material_positions().x;
+  ASSERT_EQ(positions.count(), n);
+  const std::vector<float> x = download(test::exec().backend, Span<const float>(positions.data(), 3 * n));
   EXPECT_NEAR(x[0], init.x[0] + 0.01f, 1e-6f);
   // Two samples in a 4³ body at dx = 1 cm: their stencils' reach covers the whole body.
   LagrangianQuadrature near(test::exec(), reference, 3, 0.01f, /*search=*/true);

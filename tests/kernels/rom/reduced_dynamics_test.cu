@@ -1,9 +1,10 @@
 // The velocity projection where its data is (ROM paper, Alg. 6–7): normal_equations of random Jacobians
-// and velocities, then advance_latent, against a least-squares solve by Eigen on the host; and a
-// singular system, which must leave x̂ and v̂ as they were and say so.
+// and velocities, then advance_latent, against a least-squares solve by Eigen on the host; a singular
+// system, which must leave x̂ and v̂ as they were and say so; and the domain check of decoded points.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -77,6 +78,35 @@ TEST(AdvanceLatent, RejectsALatentStateOfTheWrongSize) {
   DeviceBuffer<double> system(test::exec().backend, kLatent * kLatent + kLatent + 1);
   DeviceBuffer<float> latent(test::exec().backend, 2 * kLatent);  // no status slot
   EXPECT_THROW(advance_latent(test::exec(), kLatent, system.span(), kDt, latent.span()), Error);
+}
+
+// Points outside the band the full-order step keeps particles in are moved back into it, as that step would
+// (a NaN coordinate to the low bound), and the lowest such index is noted; points inside stay put.
+TEST(KeepPointsInside, MovesPointsOutsideIntoTheBandAndNotesTheFirst) {
+  mpm::Domain domain;
+  domain.cells[0] = domain.cells[1] = domain.cells[2] = 10;
+  const float dx = 0.1f, low = domain.low_bound(dx), high = domain.high_bound(1, dx);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  // Point 0 inside, 1 on the bounds, 2 past the high bound in y, 3 NaN in z, 4 below in x.
+  const std::vector<float> planes = {0.5f, low,  0.5f, 0.5f, -3.0f,  // x
+                                     0.5f, high, 2.0f, 0.5f, 0.5f,   // y
+                                     0.5f, low,  0.5f, nan,  0.5f};  // z
+  const Backend backend = test::exec().backend;
+  auto x = DeviceBuffer<float>::from_host(backend, planes);
+  auto first = DeviceBuffer<std::int64_t>::from_host(backend, {kNoPointOutside});
+  keep_points_inside(test::exec(), Vec3Planes<float>(x.data(), 5), domain, dx, first.span());
+  EXPECT_EQ(first.to_host()[0], 2);
+  std::vector<float> expected = planes;
+  expected[5 + 2] = high;
+  expected[10 + 3] = low;
+  expected[0 + 4] = low;
+  EXPECT_EQ(x.to_host(), expected);
+
+  // Nothing outside: the slot keeps its sentinel.
+  auto inside = DeviceBuffer<float>::from_host(backend, {0.5f, 0.5f, 0.5f});
+  auto none = DeviceBuffer<std::int64_t>::from_host(backend, {kNoPointOutside});
+  keep_points_inside(test::exec(), Vec3Planes<float>(inside.data(), 1), domain, dx, none.span());
+  EXPECT_EQ(none.to_host()[0], kNoPointOutside);
 }
 
 }  // namespace
