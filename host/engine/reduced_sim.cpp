@@ -164,14 +164,19 @@ void ReducedSim::substep(float dt) {
     quadrature = quadrature_->build(exec_, map_, samples_, latent_.xhat(), latent_.vhat());
     keep_inside_domain({}, quadrature_->material_positions().x);
   });
-  // Alg. 5: P2G from the quadrature points, the grid update, G2P at the samples. The grid is built from
-  // the samples too: an Eulerian sample is not a quadrature point (ROM paper, Fig. 6), and near the body's
-  // surface its stencil can reach a block no quadrature point touches. G2P must find that block active
-  // (an inactive one has no node storage to read); its nodes carry no mass, so their velocity is 0, as
-  // on the paper's dense grid.
-  timed([&] { grid_.rebuild(exec_, Vec3Planes<const float>(quadrature.x), samples_.x()); });
+  // Alg. 5: P2G from the quadrature points, the grid update, G2P at the samples, on a grid of the samples'
+  // stencils alone: G2P reads no other node and the update goes node by node, so the quadrature's shares
+  // elsewhere change nothing the samples see and are dropped. (An Eulerian sample is no quadrature point,
+  // ROM paper, Fig. 6: a node of its stencil may get no mass, and its velocity is then 0, as on the paper's
+  // dense grid.) A few samples' grid is built without reading its block count back.
+  timed([&] {
+    if (samples_.count() <= mpm::SparseGrid::kFewPoints)
+      grid_.rebuild_for_few_points(exec_, samples_.x());
+    else
+      grid_.rebuild(exec_, samples_.x());
+  });
   const mpm::GridView grid = grid_.view();
-  timed([&] { mpm::particle_to_grid(exec_, quadrature, grid, step); });
+  timed([&] { mpm::particle_to_grid_active_nodes(exec_, quadrature, grid, step); });
   timed([&] { mpm::update_grid(exec_, grid, step); });
   const mpm::ParticleView samples = samples_.points().view();
   timed([&] { mpm::grid_to_particle(exec_, samples, grid, step); });

@@ -14,6 +14,7 @@ struct UpdateGrid {
   StepParams step;
 
   ROMP_HD void operator()(Index n) const {
+    if (!grid.holds_node(n)) return;
     const float mass = grid.mass[n];
     if (mass <= 0.0f) return;  // velocity stays 0: no particle reads a massless node with weight > 0
     const float inverse_mass = 1.0f / mass;

@@ -5,20 +5,26 @@
 namespace romp::mpm {
 namespace {
 
+template <bool kActiveNodesOnly>
 struct ParticleToGrid {
   ParticleView particles;
   GridView grid;
   StepParams step;
   ROMP_HD void operator()(Index p) const {
     if (particles.has_domain(p)) return;  // its domain's corners carry it to the grid
-    scatter_to_grid(P2GParticle(particles, grid, step, p), grid);
+    scatter_to_grid<kActiveNodesOnly>(P2GParticle(particles, grid, step, p), grid);
   }
 };
 
 }  // namespace
 
 void particle_to_grid(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step) {
-  for_each(exec, particles.count, ParticleToGrid{particles, grid, step});
+  for_each(exec, particles.count, ParticleToGrid<false>{particles, grid, step});
+}
+
+void particle_to_grid_active_nodes(const Exec& exec, const ParticleView& particles, const GridView& grid,
+                                   const StepParams& step) {
+  for_each(exec, particles.count, ParticleToGrid<true>{particles, grid, step});
 }
 
 }  // namespace romp::mpm

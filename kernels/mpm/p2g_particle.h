@@ -46,11 +46,15 @@ struct P2GParticle {
 };
 
 // Adds a particle's mass and momentum to its 27 stencil nodes of the grid with atomics: the portable kernel's
-// scatter, and the tiled kernel's for a particle that has left the block it was sorted into.
+// scatter, and the tiled kernel's for a particle that has left the block it was sorted into. kActiveNodesOnly:
+// the grid holds only some of the stencils' blocks (particle_to_grid_active_nodes), the others' shares are
+// dropped.
+template <bool kActiveNodesOnly = false>
 ROMP_HD inline void scatter_to_grid(const P2GParticle& particle, const GridView& grid) {
   const bool flip = grid.keeps_old_velocity();
   const StencilNodes nodes(particle.stencil, grid.table);
   for_each_stencil_offset([&](int i, int j, int k) {
+    if (kActiveNodesOnly && !nodes.active(i, j, k)) return;
     const float w = particle.weight(i, j, k);
     const Index n = nodes.node(i, j, k);
     atomic_add(&grid.mass[n], w * particle.mass);

@@ -2,6 +2,7 @@
 #include "kernels/mpm/sparse_grid.h"
 
 #include <algorithm>
+#include <string>
 
 #include "kernels/core/for_each.h"
 #include "kernels/mpm/bspline.h"
@@ -59,6 +60,7 @@ struct ActivateBlocksAround {
 struct ClearNode {
   GridView grid;
   ROMP_HD void operator()(Index n) const {
+    if (!grid.holds_node(n)) return;
     grid.mass[n] = 0.0f;
     grid.velocity.store(n, Vec3<float>::zero());
     if (grid.keeps_old_velocity()) grid.velocity_old.store(n, Vec3<float>::zero());
@@ -119,6 +121,18 @@ void SparseGrid::rebuild_around_blocks(const Exec& exec, Span<const std::int32_t
   activate_blocks(exec, [&](const BlockTableView& table) {
     for_each(exec, block_starts.size() - 1, ActivateBlocksAround{block_starts, sorted_keys, table});
   });
+}
+
+void SparseGrid::rebuild_for_few_points(const Exec& exec, Vec3Planes<const float> positions) {
+  ROMP_CHECK(positions.count() <= kFewPoints, "rebuild_for_few_points takes at most " + std::to_string(kFewPoints) +
+                                                  " points, got " + std::to_string(positions.count()));
+  const Index bound = std::max(kInitialBlocks, 8 * positions.count());
+  if (max_blocks_ < bound) allocate(bound);  // only when the points outnumber every earlier call's
+  keys_.fill_zero(exec.stream);
+  counters_.fill_zero(exec.stream);
+  for_each(exec, positions.count(), ActivateStencilBlocks{positions, view().table, 1.0f / dx_});
+  blocks_ = max_blocks_;
+  clear_nodes(exec);
 }
 
 void SparseGrid::activate_blocks(const Exec& exec, const std::function<void(const BlockTableView&)>& activate) {

@@ -112,10 +112,14 @@ struct GridView {
   Span<float> mass;
   Vec3Planes<float> velocity;      // momentum during P2G, velocity after the grid update
   Vec3Planes<float> velocity_old;  // PIC/FLIP only (empty otherwise): velocity before forces
-  Index blocks = 0;                // active blocks this step
+  // Active blocks this step, or an upper bound on them where the count stayed on the device
+  // (SparseGrid::rebuild_for_few_points): node kernels run over `blocks` and skip what holds_node denies.
+  Index blocks = 0;
   float dx = 0.0f;
   float inverse_dx = 0.0f;
 
+  // Whether node n lies in an active block, by the device's count of them.
+  ROMP_HD bool holds_node(Index n) const { return n < Index(table.counters[0]) * kNodesPerBlock; }
   // Whether transfers also record the velocity before forces (for FLIP, of particles or of domain corners).
   ROMP_HD bool keeps_old_velocity() const { return velocity_old.data() != nullptr; }
 };
@@ -135,10 +139,17 @@ class SparseGrid {
   // until a particle's stencil leaves them (stencil_within_blocks_around). Grows the table like rebuild.
   void rebuild_around_blocks(const Exec& exec, Span<const std::int32_t> block_starts,
                              Span<const std::uint64_t> sorted_keys);
+  // rebuild for at most kFewPoints points with no round trip: storage for 8 blocks per point (a stencil
+  // spans at most 2 blocks per axis) cannot overflow, so the count is not read back; the grid's node
+  // kernels run over that bound and skip the nodes of blocks the device did not hand out
+  // (GridView::holds_node). A reduced substep's grid, built from its few samples.
+  static constexpr Index kFewPoints = 4096;
+  void rebuild_for_few_points(const Exec& exec, Vec3Planes<const float> positions);
   // Zeroes the active blocks' nodes: the start of a substep that keeps the last rebuild's blocks.
   void clear_nodes(const Exec& exec);
 
   GridView view();
+  // After rebuild_for_few_points, upper bounds (the count is on the device).
   Index active_blocks() const { return blocks_; }
   Index active_nodes() const { return blocks_ * kNodesPerBlock; }
   // Bytes held by the table and node arrays (for memory-per-particle reports).
