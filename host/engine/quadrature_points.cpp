@@ -11,8 +11,8 @@ namespace {
 
 template <class T>
 void gather_into(const Exec& exec, const DeviceBuffer<T>& source, Index source_count, int components,
-                 Span<const std::int32_t> index, DeviceBuffer<T>& destination) {
-  gather_planes(exec, source.span(), source_count, components, index, destination.span());
+                 Span<const std::int32_t> index, DeviceBuffer<T>& destination, Span<const std::int64_t> live = {}) {
+  gather_planes(exec, source.span(), source_count, components, index, destination.span(), live);
 }
 
 }  // namespace
@@ -37,18 +37,19 @@ bool QuadraturePoints::resize(Backend backend, Index n) {
   return grows;
 }
 
-void QuadraturePoints::gather_from(const Exec& exec, const QuadraturePoints& source, Span<const std::int32_t> index) {
+void QuadraturePoints::gather_from(const Exec& exec, const QuadraturePoints& source, Span<const std::int32_t> index,
+                                   Span<const std::int64_t> live) {
   const Index n = source.count;
   resize(exec.backend, index.size());
-  gather_into(exec, source.x, n, 3, index, x);
-  gather_into(exec, source.X, n, 3, index, X);
-  gather_into(exec, source.v, n, 3, index, v);
-  gather_into(exec, source.F, n, 9, index, F);
-  gather_into(exec, source.mass, n, 1, index, mass);
-  gather_into(exec, source.volume0, n, 1, index, volume0);
-  gather_into(exec, source.material, n, 1, index, material);
-  gather_into(exec, source.group, n, 1, index, group);
-  gather_into(exec, source.id, n, 1, index, id);
+  gather_into(exec, source.x, n, 3, index, x, live);
+  gather_into(exec, source.X, n, 3, index, X, live);
+  gather_into(exec, source.v, n, 3, index, v, live);
+  gather_into(exec, source.F, n, 9, index, F, live);
+  gather_into(exec, source.mass, n, 1, index, mass, live);
+  gather_into(exec, source.volume0, n, 1, index, volume0, live);
+  gather_into(exec, source.material, n, 1, index, material, live);
+  gather_into(exec, source.group, n, 1, index, group, live);
+  gather_into(exec, source.id, n, 1, index, id, live);
 }
 
 mpm::ParticleView QuadraturePoints::view() {

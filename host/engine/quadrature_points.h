@@ -21,8 +21,10 @@ struct QuadraturePoints {
   // count = n, reallocating (with headroom) only when n exceeds the capacity; returns whether it did
   // (the contents are then uninitialised, C aside).
   bool resize(Backend backend, Index n);
-  // These points: the points `index` of `source` (all but C, which stays 0, and status).
-  void gather_from(const Exec& exec, const QuadraturePoints& source, Span<const std::int32_t> index);
+  // These points: the points `index` of `source` (all but C, which stays 0, and status). `live`, where
+  // given, is a count on the device: only the first live[0] of them are gathered, the rest left as they were.
+  void gather_from(const Exec& exec, const QuadraturePoints& source, Span<const std::int32_t> index,
+                   Span<const std::int64_t> live = {});
   mpm::ParticleView view();
 };
 

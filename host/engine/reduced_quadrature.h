@@ -31,9 +31,13 @@ class ReducedQuadrature {
  public:
   virtual ~ReducedQuadrature() = default;
 
-  // The quadrature points at x̂_n, v̂_n around this substep's samples (decoded), for P2G.
+  // The quadrature points at x̂_n, v̂_n around this substep's samples (decoded), for P2G: the view's count of
+  // them, or where live_count() is given, the first live_count()[0] (the view's count is then a bound).
   virtual mpm::ParticleView build(const Exec& exec, const DeformationMap& map, const SampleSet& samples,
                                   Span<const float> xhat, Span<const float> vhat) = 0;
+  // How many of the last build's points P2G reads, a value on the device, where the build did not count
+  // them on the host; empty otherwise.
+  virtual Span<const std::int64_t> live_count() const { return {}; }
 
   // The material points of the last build whose positions g gave (they must lie inside the domain; the
   // substep moves them there when they do not): positions, none for Eulerian points, which lie in cells by
@@ -103,6 +107,8 @@ class EulerianQuadrature final : public ReducedQuadrature {
   MaterialPositions material_positions() override { return {}; }
   std::pair<std::int64_t, std::string> describe(const Exec& exec, std::int64_t slot) const override;
   Index last_count() const override { return points_.count; }
+  // The points used, of the inverted ones: selected on the device and counted there.
+  Span<const std::int64_t> live_count() const override { return used_count_; }
 
   // The running totals over the builds (a download).
   rom::QuadratureTally tally(const Exec& exec) const { return tally_.to_host(exec.stream)[0]; }
@@ -114,7 +120,8 @@ class EulerianQuadrature final : public ReducedQuadrature {
   DeviceBuffer<float> densities_;
   DeviceBuffer<rom::QuadratureTally> tally_;
   QuadraturePoints points_;  // every point inverted
-  QuadraturePoints used_;    // those inside the body, gathered for P2G
+  QuadraturePoints used_;    // those inside the body, gathered for P2G: the first used_count_[0] of them
+  Span<const std::int64_t> used_count_;
   // Refilled every build, grown to the largest count so far (an allocation on CUDA synchronises).
   DeviceBuffer<std::int32_t> used_index_;
   DeviceBuffer<std::int32_t> inversion_iterations_, map_evaluations_, jacobian_evaluations_;

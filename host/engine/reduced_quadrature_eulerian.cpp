@@ -109,11 +109,12 @@ mpm::ParticleView EulerianQuadrature::build(const Exec& exec, const DeformationM
                            Vec3Planes<const float>(guess), Mat3Planes<const float>(guess_jacobian), out);
   rom::tally_quadrature(exec, out, count, tally_.span());
   if (settings_.warm_start) keep_for_warm_starts(exec, count, xhat, vhat);
-  // Points outside the body (or unconverged) carry no mass; P2G would evaluate a stress and activate
-  // grid blocks for each of them, so the used points are gathered into a set of their own, P2G's.
+  // Points outside the body (or unconverged) carry no mass; P2G would evaluate a stress for each of them,
+  // so the used points are gathered into a set of their own, P2G's, counted on the device: the gathers
+  // and P2G run over every inverted point's slot and stop at the count.
   used_index_.ensure_size(exec.backend, count);
-  const Index used = select_(exec, points_.status.prefix(count), rom::kQuadratureUsed, used_index_.span());
-  used_.gather_from(exec, points_, used_index_.prefix(used));
+  used_count_ = select_.select_on_device(exec, points_.status.prefix(count), rom::kQuadratureUsed, used_index_.span());
+  used_.gather_from(exec, points_, used_index_.prefix(count), used_count_);
   return used_.view();
 }
 

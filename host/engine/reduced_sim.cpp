@@ -176,7 +176,7 @@ void ReducedSim::substep(float dt) {
       grid_.rebuild(exec_, samples_.x());
   });
   const mpm::GridView grid = grid_.view();
-  timed([&] { mpm::particle_to_grid_active_nodes(exec_, quadrature, grid, step); });
+  timed([&] { mpm::particle_to_grid_active_nodes(exec_, quadrature, grid, step, quadrature_->live_count()); });
   timed([&] { mpm::update_grid(exec_, grid, step); });
   const mpm::ParticleView samples = samples_.points().view();
   timed([&] { mpm::grid_to_particle(exec_, samples, grid, step); });

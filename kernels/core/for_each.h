@@ -8,12 +8,14 @@
 #include <omp.h>
 
 #include <climits>
+#include <cstdint>
 #include <string>
 
 #include "kernels/core/error.h"
 #include "kernels/core/exec.h"
 #include "kernels/core/guarded_memory.h"
 #include "kernels/core/hd.h"
+#include "kernels/core/span.h"
 
 #if defined(__CUDACC__)
 #include "kernels/core/cuda_check.h"
@@ -88,6 +90,24 @@ void for_each(const Exec& exec, Index n, const F& functor) {
 #endif
   }
   detail::for_each_cpu(exec, n, functor);
+}
+
+namespace detail {
+template <class F>
+struct UpTo {
+  Span<const std::int64_t> count;
+  F functor;
+  ROMP_HD void operator()(Index i) const {
+    if (i < count[0]) functor(i);
+  }
+};
+}  // namespace detail
+
+// functor(i) for the i < count[0] of at most `bound` elements, count a value on exec's backend: a launch
+// sized on the host while the count stays where a device computed it (no round trip to learn it).
+template <int kBlockSize = detail::kForEachBlockSize, class F>
+void for_each_up_to(const Exec& exec, Index bound, Span<const std::int64_t> count, const F& functor) {
+  for_each<kBlockSize>(exec, bound, detail::UpTo<F>{count, functor});
 }
 
 }  // namespace romp

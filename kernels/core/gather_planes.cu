@@ -7,12 +7,17 @@ namespace romp {
 
 template <class T>
 void gather_planes(const Exec& exec, Span<const T> source, Index source_count, int components,
-                   Span<const std::int32_t> index, Span<T> destination) {
-  for_each(exec, index.size(), GatherPlanes<T>{source, source_count, destination, index, components});
+                   Span<const std::int32_t> index, Span<T> destination, Span<const std::int64_t> count) {
+  const GatherPlanes<T> gather{source, source_count, destination, index, components};
+  if (count.empty())
+    for_each(exec, index.size(), gather);
+  else
+    for_each_up_to(exec, index.size(), count, gather);
 }
 
-template void gather_planes<float>(const Exec&, Span<const float>, Index, int, Span<const std::int32_t>, Span<float>);
+template void gather_planes<float>(const Exec&, Span<const float>, Index, int, Span<const std::int32_t>, Span<float>,
+                                   Span<const std::int64_t>);
 template void gather_planes<std::int32_t>(const Exec&, Span<const std::int32_t>, Index, int, Span<const std::int32_t>,
-                                          Span<std::int32_t>);
+                                          Span<std::int32_t>, Span<const std::int64_t>);
 
 }  // namespace romp

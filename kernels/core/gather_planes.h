@@ -25,9 +25,10 @@ struct GatherPlanes {
 };
 
 // GatherPlanes launched on exec's backend, for host code compiled as C++ (a launch on CUDA must come
-// from a file nvcc compiles). Instantiated for float and std::int32_t.
+// from a file nvcc compiles). Instantiated for float and std::int32_t. `count`, where given, is a value on
+// exec's backend: only the first count[0] of the index.size() rows are gathered (for_each_up_to).
 template <class T>
 void gather_planes(const Exec& exec, Span<const T> source, Index source_count, int components,
-                   Span<const std::int32_t> index, Span<T> destination);
+                   Span<const std::int32_t> index, Span<T> destination, Span<const std::int64_t> count = {});
 
 }  // namespace romp

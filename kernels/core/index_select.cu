@@ -28,15 +28,25 @@ struct FlagEquals {
 
 Index IndexSelector::operator()(const Exec& exec, Span<const std::int32_t> flags, std::int32_t value,
                                 Span<std::int32_t> selected) {
+  if (flags.empty()) return 0;
+  // The count comes back as on the device, so host traffic counted on the CPU is the GPU's.
+  return Index(download(exec.backend, select_on_device(exec, flags, value, selected), exec.stream)[0]);
+}
+
+Span<const std::int64_t> IndexSelector::select_on_device(const Exec& exec, Span<const std::int32_t> flags,
+                                                         std::int32_t value, Span<std::int32_t> selected) {
   const Index n = flags.size();
   ROMP_CHECK(selected.size() >= n, "IndexSelector: room for " + std::to_string(selected.size()) + " indices of " +
                                        std::to_string(n) + " flags");
   ROMP_CHECK(n <= INT32_MAX, "IndexSelector: indices are 32-bit, got " + std::to_string(n) + " flags");
-  if (n == 0) return 0;
+  count_.ensure_size(exec.backend, 1);
+  if (n == 0) {
+    count_.fill_zero(exec.stream);
+    return count_.prefix(1);
+  }
   const FlagEquals equals{flags.data(), value};
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
-    count_.ensure_size(exec.backend, 1);
     const thrust::counting_iterator<std::int32_t> indices(0);
     std::size_t bytes = 0;
     ROMP_CUDA_CHECK(
@@ -44,21 +54,17 @@ Index IndexSelector::operator()(const Exec& exec, Span<const std::int32_t> flags
     temporary_.ensure_size(exec.backend, Index(bytes));
     ROMP_CUDA_CHECK(cub::DeviceSelect::If(temporary_.data(), bytes, indices, selected.data(), count_.data(), n, equals,
                                           exec.stream));
-    return Index(download(exec.backend, count_.prefix(1), exec.stream)[0]);
+    return count_.prefix(1);
 #else
     throw Error("IndexSelector on CUDA from a translation unit not compiled by nvcc");
 #endif
   }
-  count_.ensure_size(exec.backend, 1);
-  {
-    const memory::DeviceAccess launch;  // the CPU's stand-in for DeviceSelect
-    std::int32_t count = 0;
-    for (Index i = 0; i < n; ++i)
-      if (equals(std::int32_t(i))) selected[count++] = std::int32_t(i);
-    count_.data()[0] = count;
-  }
-  // The count comes back as on the device, so host traffic counted on the CPU is the GPU's.
-  return Index(download(exec.backend, count_.prefix(1), exec.stream)[0]);
+  const memory::DeviceAccess launch;  // the CPU's stand-in for DeviceSelect
+  std::int32_t count = 0;
+  for (Index i = 0; i < n; ++i)
+    if (equals(std::int32_t(i))) selected[count++] = std::int32_t(i);
+  count_.data()[0] = count;
+  return count_.prefix(1);
 }
 
 }  // namespace romp

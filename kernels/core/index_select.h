@@ -18,6 +18,10 @@ class IndexSelector {
   // entries at least) and returns how many there are: one download, where compacting on the host
   // would download every flag and upload the indices.
   Index operator()(const Exec& exec, Span<const std::int32_t> flags, std::int32_t value, Span<std::int32_t> selected);
+  // The same selection with its count left on exec's backend: the returned slot, valid until the next call,
+  // for launches sized by flags.size() that stop at the count (for_each_up_to). No round trip.
+  Span<const std::int64_t> select_on_device(const Exec& exec, Span<const std::int32_t> flags, std::int32_t value,
+                                            Span<std::int32_t> selected);
 
  private:
   DeviceBuffer<unsigned char> temporary_;

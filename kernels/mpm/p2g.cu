@@ -23,8 +23,12 @@ void particle_to_grid(const Exec& exec, const ParticleView& particles, const Gri
 }
 
 void particle_to_grid_active_nodes(const Exec& exec, const ParticleView& particles, const GridView& grid,
-                                   const StepParams& step) {
-  for_each(exec, particles.count, ParticleToGrid<true>{particles, grid, step});
+                                   const StepParams& step, Span<const std::int64_t> live) {
+  const ParticleToGrid<true> scatter{particles, grid, step};
+  if (live.empty())
+    for_each(exec, particles.count, scatter);
+  else
+    for_each_up_to(exec, particles.count, live, scatter);
 }
 
 }  // namespace romp::mpm

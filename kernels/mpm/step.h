@@ -122,8 +122,9 @@ void particle_to_grid(const Exec& exec, const ParticleView& particles, const Gri
 // P2G into a grid built from other points than these particles: only the shares that fall in its active
 // blocks are added, the rest dropped. A reduced substep builds its grid from the samples, whose nodes alone
 // G2P reads; the grid update is node by node, so the dropped shares change no node the samples read.
+// `live`, where given, is a count on exec's backend: only the first live[0] of particles.count (a bound) add.
 void particle_to_grid_active_nodes(const Exec& exec, const ParticleView& particles, const GridView& grid,
-                                   const StepParams& step);
+                                   const StepParams& step, Span<const std::int64_t> live = {});
 // The same P2G by grid block (p2g_tiled.cu): each block's particles add into a local tile of nodes
 // that reaches the grid once. `block_starts` and `sorted_keys` are the runs and the particles' block keys of
 // the last ParticleSet::sort_by_block, which may be several substeps old: particles that have left their

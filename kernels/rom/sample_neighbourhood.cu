@@ -18,6 +18,10 @@ namespace {
 constexpr std::uint64_t kNoNode = UINT64_MAX;
 constexpr int kNearWidth = 5;   // base nodes within 2 of the sample's, per axis
 constexpr int kCellsWidth = 6;  // cells B − 2 .. B + 3, per axis
+// Candidates up to which build_eulerian_points sizes them by the cells the samples could find, not by the
+// cells they found: 216 ℓ³ per sample, 1,728 at ℓ = 2 (≈ 110 kB each in the candidates' 64 B), so up to ≈ 600
+// samples at ℓ = 2 (the paper's 10 or 50, and 5 per kinematic boundary) read no count back.
+constexpr Index kCandidatesWithoutCount = Index(1) << 20;
 
 // The keys of the width³ nodes (or cells) base − 2 .. base − 3 + width per axis around each sample's
 // base node, kNoNode for those outside [0, upper) on some axis; and the sample of each.
@@ -57,7 +61,8 @@ struct FirstOfEachKey {
 struct EulerianCandidate {
   Span<const std::uint64_t> cell_keys;    // sorted
   Span<const std::int32_t> cell_samples;  // the sample of each, the first in sample order
-  Span<const std::int32_t> cells;         // the positions of the unique cells in cell_keys
+  Span<const std::int32_t> cells;         // the positions of the unique cells in cell_keys (a bound on them)
+  Span<const std::int64_t> cell_count;    // how many there are, on the device
   Span<const std::uint64_t> near;         // empty: no pruning
   Vec3Planes<const float> X_s, x_s;
   Mat3Planes<const float> F_s;
@@ -71,6 +76,10 @@ struct EulerianCandidate {
 
   ROMP_HD void operator()(Index t) const {
     const int per_cell = l * l * l;
+    if (t >= cell_count[0] * per_cell) {  // past the cells found: not a point
+      keep[t] = 0;
+      return;
+    }
     const Index at = cells[t / per_cell];
     const int sub_index = int(t % per_cell);
     const std::uint64_t key = cell_keys[at];
@@ -143,11 +152,16 @@ Index SampleNeighbourhood::build_eulerian_points(const Exec& exec, Vec3Planes<co
   flags_.ensure_size(exec.backend, pairs);
   chosen_.ensure_size(exec.backend, pairs);
   for_each(exec, pairs, FirstOfEachKey{cell_keys, flags_.prefix(pairs)});
-  const Index cells = select_(exec, flags_.prefix(pairs), 1, chosen_.span());
+  const Span<const std::int64_t> cell_count = select_.select_on_device(exec, flags_.prefix(pairs), 1, chosen_.span());
 
-  // ℓ³ candidates per cell, then those kept, compacted.
+  // ℓ³ candidates per cell, then those kept, compacted. For few samples the candidates' storage and launch
+  // cover every cell the samples could have found (their pairs), so the cells' count stays on the device;
+  // for many, whose bound would be far above the cells they share, it is read back.
   const int l = lattice.points_per_cell;
-  const Index candidates = cells * l * l * l;
+  const Index per_cell = Index(l) * l * l;
+  const Index cells =
+      pairs * per_cell <= kCandidatesWithoutCount ? pairs : Index(download(exec.backend, cell_count, exec.stream)[0]);
+  const Index candidates = cells * per_cell;
   candidates_.ensure_size(exec.backend, 15 * candidates);
   candidate_cells_.ensure_size(exec.backend, candidates);
   candidate_subs_.ensure_size(exec.backend, candidates);
@@ -155,7 +169,7 @@ Index SampleNeighbourhood::build_eulerian_points(const Exec& exec, Vec3Planes<co
   kept_.ensure_size(exec.backend, candidates);
   float* base = candidates_.data();
   for_each(exec, candidates,
-           EulerianCandidate{cell_keys, cell_samples, chosen_.prefix(cells), near, X, x, F, l, lattice.dx,
+           EulerianCandidate{cell_keys, cell_samples, chosen_.prefix(cells), cell_count, near, X, x, F, l, lattice.dx,
                              Vec3Planes<float>(base, candidates), Vec3Planes<float>(base + 3 * candidates, candidates),
                              Mat3Planes<float>(base + 6 * candidates, candidates), candidate_cells_.prefix(candidates),
                              candidate_subs_.prefix(candidates), flags_.prefix(candidates)});

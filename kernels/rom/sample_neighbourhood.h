@@ -39,7 +39,8 @@ class SampleNeighbourhood {
   Span<const std::uint64_t> near_bases(const Exec& exec, Vec3Planes<const float> x, float inverse_dx);
 
   // Builds the Eulerian points around the samples (reference X, current x, ∇_X g at F, m of each) and
-  // returns their count (two downloads: the cells' and the points' counts).
+  // returns their count: one download (two for more than ≈ 600 samples at ℓ = 2, whose cells' count is read
+  // back to size the candidates).
   Index build_eulerian_points(const Exec& exec, Vec3Planes<const float> X, Vec3Planes<const float> x,
                               Mat3Planes<const float> F, const EulerianLattice& lattice);
   // Writes the points of the last build, count of each: positions, first guesses of X and of ∇_X g, and

@@ -5,7 +5,9 @@
 #include <vector>
 
 #include "kernels/core/device_buffer.h"
+#include "kernels/core/for_each.h"
 #include "kernels/core/index_select.h"
+#include "kernels/core/memory.h"
 #include "tests/support/test_exec.h"
 
 namespace romp {
@@ -45,6 +47,34 @@ TEST(IndexSelector, RepeatedCallsAllocateNothingAndDownloadOnlyTheCount) {
   EXPECT_EQ(after.uploads, before.uploads);
   // The count comes back in one download, on the CPU as on CUDA, so CPU runs count what a GPU pays.
   EXPECT_EQ(after.downloads - before.downloads, 1);
+}
+
+// The count left on the device: the same selection, no round trip, and a launch over every flag that stops
+// at the count (for_each_up_to) touches exactly the selected indices.
+struct MarkSelected {
+  Span<const std::int32_t> selected;
+  Span<std::int32_t> marks;
+  ROMP_HD void operator()(Index i) const { marks[selected[i]] += 1; }
+};
+
+TEST(IndexSelector, CountLeftOnTheDeviceBoundsALaunchWithoutARoundTrip) {
+  const Exec& exec = test::exec();
+  std::vector<std::int32_t> flags(3000);
+  for (std::size_t i = 0; i < flags.size(); ++i) flags[i] = std::int32_t(i % 5 == 2);
+  const DeviceBuffer<std::int32_t> device_flags = DeviceBuffer<std::int32_t>::from_host(exec.backend, flags);
+  DeviceBuffer<std::int32_t> selected(exec.backend, Index(flags.size()));
+  DeviceBuffer<std::int32_t> marks =
+      DeviceBuffer<std::int32_t>::from_host(exec.backend, std::vector<std::int32_t>(flags.size()));
+  IndexSelector select;
+  select.select_on_device(exec, device_flags.span(), 1, selected.span());  // sizes CUB's storage
+  const memory::Traffic before = memory::traffic();
+  const Span<const std::int64_t> count = select.select_on_device(exec, device_flags.span(), 1, selected.span());
+  for_each_up_to(exec, Index(flags.size()), count, MarkSelected{selected.span(), marks.span()});
+  const memory::Traffic after = memory::traffic();
+  EXPECT_EQ(after.downloads, before.downloads);
+  EXPECT_EQ(after.allocations, before.allocations);
+  EXPECT_EQ(download(exec.backend, count)[0], 600);
+  EXPECT_EQ(marks.to_host(), flags);  // each selected index marked once, nothing else
 }
 
 TEST(IndexSelector, TooLittleRoomIsAnError) {
