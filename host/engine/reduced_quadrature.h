@@ -52,8 +52,9 @@ class ReducedQuadrature {
   // and a description (may download the point).
   virtual std::pair<std::int64_t, std::string> describe(const Exec& exec, std::int64_t slot) const = 0;
 
-  // The points of the last build (Eulerian: every point inverted, inside the body or not).
-  virtual Index last_count() const = 0;
+  // The points of the last build (Eulerian: every point inverted, inside the body or not; counted on the
+  // device, so this is a download).
+  virtual Index last_count(const Exec& exec) const = 0;
 };
 
 class LagrangianQuadrature final : public ReducedQuadrature {
@@ -65,7 +66,7 @@ class LagrangianQuadrature final : public ReducedQuadrature {
                           Span<const float> vhat) override;
   MaterialPositions material_positions() override;
   std::pair<std::int64_t, std::string> describe(const Exec& exec, std::int64_t slot) const override;
-  Index last_count() const override { return points_.count; }
+  Index last_count(const Exec&) const override { return points_.count; }
 
   bool searches_neighbours() const { return search_; }
   // Quadrature points summed over the builds so far.
@@ -106,7 +107,7 @@ class EulerianQuadrature final : public ReducedQuadrature {
                           Span<const float> vhat) override;
   MaterialPositions material_positions() override { return {}; }
   std::pair<std::int64_t, std::string> describe(const Exec& exec, std::int64_t slot) const override;
-  Index last_count() const override { return points_.count; }
+  Index last_count(const Exec& exec) const override;
   // The points used, of the inverted ones: selected on the device and counted there.
   Span<const std::int64_t> live_count() const override { return used_count_; }
 
@@ -119,8 +120,9 @@ class EulerianQuadrature final : public ReducedQuadrature {
   rom::ReferenceOccupancy occupancy_;
   DeviceBuffer<float> densities_;
   DeviceBuffer<rom::QuadratureTally> tally_;
-  QuadraturePoints points_;  // every point inverted
-  QuadraturePoints used_;    // those inside the body, gathered for P2G: the first used_count_[0] of them
+  QuadraturePoints points_;  // every point inverted: the first point_count_[0] of its slots
+  Span<const std::int64_t> point_count_;
+  QuadraturePoints used_;  // those inside the body, gathered for P2G: the first used_count_[0] of them
   Span<const std::int64_t> used_count_;
   // Refilled every build, grown to the largest count so far (an allocation on CUDA synchronises).
   DeviceBuffer<std::int32_t> used_index_;
@@ -132,11 +134,12 @@ class EulerianQuadrature final : public ReducedQuadrature {
   DeviceBuffer<std::uint64_t> last_cells_;
   DeviceBuffer<std::int32_t> last_subs_, last_status_;
   DeviceBuffer<float> last_X_, last_v_, last_F_, last_xhat_, last_vhat_;
-  Index last_count_ = -1;  // −1: no build yet
+  DeviceBuffer<std::int64_t> last_point_count_;
+  Index last_count_ = -1;  // the last build's slots (a bound on its points); −1: no build yet
 
   // The last build's points as warm starts read them.
   rom::Inversions last_inversions() const;
-  // Keeps this build's `count` points and x̂, v̂ for the next build.
+  // Keeps this build's points (in its `count` slots) and x̂, v̂ for the next build.
   void keep_for_warm_starts(const Exec& exec, Index count, Span<const float> xhat, Span<const float> vhat);
   rom::SampleNeighbourhood neighbourhood_;
   IndexSelector select_;

@@ -66,8 +66,12 @@ mpm::ParticleView EulerianQuadrature::build(const Exec& exec, const DeformationM
                                             Span<const float> xhat, Span<const float> vhat) {
   // Alg. 4, step 3: ℓ³ points in each cell whose points may reach a sample's grid nodes, of which only
   // those whose stencils reach them (unless the lattice keeps them all), built on the device.
-  const Index count =
+  // Counted on the device: `count` slots hold them, the first point_count_[0] of which are points; every
+  // launch below runs over the slots and stops there.
+  const rom::SampleNeighbourhood::Points built =
       neighbourhood_.build_eulerian_points(exec, samples.X(), samples.x(), samples.F(), settings_.lattice);
+  const Index count = built.bound;
+  point_count_ = built.count;
   // The count changes nearly every substep: the buffers grow with headroom and are otherwise reused.
   if (points_.resize(exec.backend, count)) {
     // No Eulerian point is a material point or in a Dirichlet group; set once for the whole capacity.
@@ -90,7 +94,7 @@ mpm::ParticleView EulerianQuadrature::build(const Exec& exec, const DeformationM
                                        place_cells_.prefix(count), place_subs_.prefix(count));
   if (settings_.warm_start && last_count_ >= 0) {
     rom::warm_start_inversions(exec, last_inversions(), xhat, place_cells_.prefix(count), place_subs_.prefix(count),
-                               guess, guess_jacobian, tally_.span());
+                               guess, guess_jacobian, tally_.span(), point_count_);
   }
   const float dx = settings_.lattice.dx;
   const int l = settings_.lattice.points_per_cell;
@@ -106,14 +110,16 @@ mpm::ParticleView EulerianQuadrature::build(const Exec& exec, const DeformationM
                                    jacobian_evaluations_.prefix(count)};
   rom::eulerian_quadrature(exec, map.view(), xhat, vhat, occupancy_, densities_.span(), dx * dx * dx / float(l * l * l),
                            settings_.inversion, Vec3Planes<const float>(points_.x.data(), count),
-                           Vec3Planes<const float>(guess), Mat3Planes<const float>(guess_jacobian), out);
-  rom::tally_quadrature(exec, out, count, tally_.span());
+                           Vec3Planes<const float>(guess), Mat3Planes<const float>(guess_jacobian), out,
+                           rom::MapKernel::Fastest, point_count_);
+  rom::tally_quadrature(exec, out, count, tally_.span(), point_count_);
   if (settings_.warm_start) keep_for_warm_starts(exec, count, xhat, vhat);
   // Points outside the body (or unconverged) carry no mass; P2G would evaluate a stress for each of them,
   // so the used points are gathered into a set of their own, P2G's, counted on the device: the gathers
   // and P2G run over every inverted point's slot and stop at the count.
   used_index_.ensure_size(exec.backend, count);
-  used_count_ = select_.select_on_device(exec, points_.status.prefix(count), rom::kQuadratureUsed, used_index_.span());
+  used_count_ = select_.select_on_device(exec, points_.status.prefix(count), rom::kQuadratureUsed, used_index_.span(),
+                                         point_count_);
   used_.gather_from(exec, points_, used_index_.prefix(count), used_count_);
   return used_.view();
 }
@@ -127,11 +133,13 @@ rom::Inversions EulerianQuadrature::last_inversions() const {
           Vec3Planes<const float>(last_v_.data(), n),
           Mat3Planes<const float>(last_F_.data(), n),
           last_xhat_.span(),
-          last_vhat_.span()};
+          last_vhat_.span(),
+          last_point_count_.prefix(1)};
 }
 
 void EulerianQuadrature::keep_for_warm_starts(const Exec& exec, Index count, Span<const float> xhat,
                                               Span<const float> vhat) {
+  last_point_count_.ensure_size(exec.backend, 1);
   last_cells_.ensure_size(exec.backend, count);
   last_subs_.ensure_size(exec.backend, count);
   last_status_.ensure_size(exec.backend, count);
@@ -149,12 +157,18 @@ void EulerianQuadrature::keep_for_warm_starts(const Exec& exec, Index count, Spa
                             Vec3Planes<const float>(points_.v.data(), count),
                             Mat3Planes<const float>(points_.F.data(), count),
                             xhat,
-                            vhat};
-  rom::keep_inversions(exec, now,
-                       {last_cells_.prefix(count), last_subs_.prefix(count), last_status_.prefix(count),
-                        Vec3Planes<float>(last_X_.data(), count), Vec3Planes<float>(last_v_.data(), count),
-                        Mat3Planes<float>(last_F_.data(), count), last_xhat_.span(), last_vhat_.span()});
+                            vhat,
+                            point_count_};
+  rom::keep_inversions(
+      exec, now,
+      {last_cells_.prefix(count), last_subs_.prefix(count), last_status_.prefix(count),
+       Vec3Planes<float>(last_X_.data(), count), Vec3Planes<float>(last_v_.data(), count),
+       Mat3Planes<float>(last_F_.data(), count), last_xhat_.span(), last_vhat_.span(), last_point_count_.prefix(1)});
   last_count_ = count;
+}
+
+Index EulerianQuadrature::last_count(const Exec& exec) const {
+  return point_count_.empty() ? 0 : Index(download(exec.backend, point_count_, exec.stream)[0]);
 }
 
 std::pair<std::int64_t, std::string> EulerianQuadrature::describe(const Exec& exec, std::int64_t slot) const {

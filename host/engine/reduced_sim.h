@@ -135,7 +135,7 @@ class ReducedSim {
   bool searches_neighbours() const { return lagrangian_ && lagrangian_->searches_neighbours(); }
   // The quadrature points of the last substep: Lagrangian, the samples and their neighbours or every
   // material point; Eulerian, the points inverted (inside the body or not; P2G reads those inside).
-  Index last_quadrature_count() const { return quadrature_->last_count(); }
+  Index last_quadrature_count() const { return quadrature_->last_count(exec_); }
   // Lagrangian quadrature points summed over the substeps so far.
   std::int64_t lagrangian_quadrature_points() const { return lagrangian_ ? lagrangian_->points_so_far() : 0; }
   std::vector<std::pair<std::string, double>> stage_seconds() const;

@@ -21,7 +21,8 @@ namespace {
 struct FlagEquals {
   const std::int32_t* flags;
   std::int32_t value;
-  ROMP_HD bool operator()(std::int32_t i) const { return flags[i] == value; }
+  const std::int64_t* flag_count;  // null: every flag
+  ROMP_HD bool operator()(std::int32_t i) const { return (!flag_count || i < *flag_count) && flags[i] == value; }
 };
 
 }  // namespace
@@ -34,7 +35,8 @@ Index IndexSelector::operator()(const Exec& exec, Span<const std::int32_t> flags
 }
 
 Span<const std::int64_t> IndexSelector::select_on_device(const Exec& exec, Span<const std::int32_t> flags,
-                                                         std::int32_t value, Span<std::int32_t> selected) {
+                                                         std::int32_t value, Span<std::int32_t> selected,
+                                                         Span<const std::int64_t> flag_count) {
   const Index n = flags.size();
   ROMP_CHECK(selected.size() >= n, "IndexSelector: room for " + std::to_string(selected.size()) + " indices of " +
                                        std::to_string(n) + " flags");
@@ -44,7 +46,7 @@ Span<const std::int64_t> IndexSelector::select_on_device(const Exec& exec, Span<
     count_.fill_zero(exec.stream);
     return count_.prefix(1);
   }
-  const FlagEquals equals{flags.data(), value};
+  const FlagEquals equals{flags.data(), value, flag_count.empty() ? nullptr : flag_count.data()};
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
     const thrust::counting_iterator<std::int32_t> indices(0);

@@ -31,6 +31,9 @@ struct EulerianPoint {
   Vec3Planes<const float> X_guess;
   Mat3Planes<const float> F_guess;
   EulerianPointsOut out;
+  // Where given, a count on the device: the slots from count[0] on hold no point. A member, not a
+  // for_each_up_to wrapper: each evaluator's kernel is compiled once.
+  Span<const std::int64_t> count;
 
   // What the next evaluation of the map is for.
   enum class Stage { Start, Trial, Exact, Kinematics, Done };
@@ -45,6 +48,7 @@ struct EulerianPoint {
   // point; Exact: g and ∇_X g where Broyden's estimate failed; Kinematics: the Jacobians at the
   // solution), so the kernel holds one inlined copy of the evaluator, whose registers it can keep.
   ROMP_HD void operator()(Index i) const {
+    if (!count.empty() && i >= count[0]) return;
     Vec3<float> X = X_guess.load(i);
     Mat3<float> B = F_guess.load(i);
     std::int32_t status = kQuadratureUnconverged;
@@ -185,7 +189,7 @@ void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map,
                          Span<const float> vhat, const ReferenceOccupancy& occupancy, Span<const float> density,
                          float volume, const InversionOptions& options, Vec3Planes<const float> x,
                          Vec3Planes<const float> X_guess, Mat3Planes<const float> F_guess, const EulerianPointsOut& out,
-                         MapKernel kernel) {
+                         MapKernel kernel, Span<const std::int64_t> count) {
   const Index n = x.count();
   ROMP_CHECK(map.latent >= 1 && map.latent <= kMaxMapLatent && xhat.size() == map.latent && vhat.size() == map.latent,
              "x̂ and v̂ must hold the map's r values, r in [1, " + std::to_string(kMaxMapLatent) + "]");
@@ -202,7 +206,7 @@ void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map,
   with_map_evaluator(map, kernel, exec.backend, [&](const auto& evaluator) {
     for_each(exec, n,
              EulerianPoint<std::decay_t<decltype(evaluator)>>{evaluator, xhat.data(), vhat.data(), occupancy, density,
-                                                              volume, options, x, X_guess, F_guess, out});
+                                                              volume, options, x, X_guess, F_guess, out, count});
   });
 }
 
@@ -230,13 +234,17 @@ struct TallyPoint {
 
 }  // namespace
 
-void tally_quadrature(const Exec& exec, const EulerianPointsOut& out, Index n, Span<QuadratureTally> tally) {
+void tally_quadrature(const Exec& exec, const EulerianPointsOut& out, Index n, Span<QuadratureTally> tally,
+                      Span<const std::int64_t> count) {
   ROMP_CHECK(out.status.size() >= n && out.iterations.size() >= n && out.evaluations.size() >= n &&
                  out.jacobian_evaluations.size() >= n && out.mass.size() >= n && tally.size() == 1,
              "tally_quadrature: a status, iteration and evaluation count and mass for each of the n points, one "
              "tally");
   for_each(exec, 1, ClearLastMass{tally});
-  for_each(exec, n, TallyPoint{out, tally});
+  if (count.empty())
+    for_each(exec, n, TallyPoint{out, tally});
+  else
+    for_each_up_to(exec, n, count, TallyPoint{out, tally});
 }
 
 }  // namespace romp::rom

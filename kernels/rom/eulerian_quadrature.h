@@ -89,12 +89,13 @@ struct EulerianPointsOut {
 // writes the kinematics. Points that do not converge or land outside the body are dropped: mass and
 // volume 0, F = I, v = 0, so they add nothing to a P2G. `density` holds ρ₀ per material; `volume` is
 // each point's share of the current configuration (dx³ / ℓ³). xhat, vhat: r values on exec's backend.
-// `kernel` chooses the map's evaluator (deformation_map_eval.h).
+// `kernel` chooses the map's evaluator (deformation_map_eval.h). `count`, where given, is a count on the
+// device: only the first count[0] of the n points are inverted (n is then a bound), the rest left as they were.
 void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map, Span<const float> xhat,
                          Span<const float> vhat, const ReferenceOccupancy& occupancy, Span<const float> density,
                          float volume, const InversionOptions& options, Vec3Planes<const float> x,
                          Vec3Planes<const float> X_guess, Mat3Planes<const float> F_guess, const EulerianPointsOut& out,
-                         MapKernel kernel = MapKernel::Fastest);
+                         MapKernel kernel = MapKernel::Fastest, Span<const std::int64_t> count = {});
 
 // Running totals of the Eulerian quadrature, kept on the device so that a substep reads nothing back
 // for them: the points by status (QuadratureStatus) and their inversion iterations since the run
@@ -108,7 +109,8 @@ struct QuadratureTally {
 };
 
 // Adds the statuses, iterations and evaluations of the n points `out` holds to tally[0] and sets its
-// last_mass to their mass.
-void tally_quadrature(const Exec& exec, const EulerianPointsOut& out, Index n, Span<QuadratureTally> tally);
+// last_mass to their mass. `count`, where given, is a count on the device: only the first count[0] add.
+void tally_quadrature(const Exec& exec, const EulerianPointsOut& out, Index n, Span<QuadratureTally> tally,
+                      Span<const std::int64_t> count = {});
 
 }  // namespace romp::rom

@@ -19,7 +19,8 @@ struct WarmStart {
 
   // The last build's index of the place (cell, sub), or −1: a binary search in its (cell, sub) order.
   ROMP_HD Index last_index(std::uint64_t c, std::int32_t s) const {
-    Index low = 0, high = last.cell.size();
+    const Index points = last.points();
+    Index low = 0, high = points;
     while (low < high) {
       const Index middle = low + (high - low) / 2;
       const bool before = last.cell[middle] < c || (last.cell[middle] == c && last.sub[middle] < s);
@@ -28,7 +29,7 @@ struct WarmStart {
       else
         high = middle;
     }
-    return low < last.cell.size() && last.cell[low] == c && last.sub[low] == s ? low : -1;
+    return low < points && last.cell[low] == c && last.sub[low] == s ? low : -1;
   }
 
   ROMP_HD void operator()(Index i) const {
@@ -62,7 +63,8 @@ struct KeepInversions {
       kept.xhat[i] = now.xhat[i];
       kept.vhat[i] = now.vhat[i];
     }
-    if (i >= now.cell.size()) return;
+    if (i == 0 && !now.count.empty()) kept.count[0] = now.count[0];
+    if (i >= now.points()) return;
     kept.cell[i] = now.cell[i];
     kept.sub[i] = now.sub[i];
     kept.status[i] = now.status[i];
@@ -76,7 +78,7 @@ struct KeepInversions {
 
 void warm_start_inversions(const Exec& exec, const Inversions& last, Span<const float> xhat,
                            Span<const std::uint64_t> cell, Span<const std::int32_t> sub, Vec3Planes<float> X_guess,
-                           Mat3Planes<float> F_guess, Span<QuadratureTally> tally) {
+                           Mat3Planes<float> F_guess, Span<QuadratureTally> tally, Span<const std::int64_t> count) {
   const Index n = cell.size(), m = last.cell.size();
   ROMP_CHECK(sub.size() == n && X_guess.count() == n && F_guess.count() == n,
              "warm_start_inversions: a place and a guess for each point");
@@ -86,7 +88,11 @@ void warm_start_inversions(const Exec& exec, const Inversions& last, Span<const 
   ROMP_CHECK(xhat.size() == last.xhat.size() && last.vhat.size() == xhat.size() && tally.size() == 1,
              "warm_start_inversions: x̂ now and x̂, v̂ then of one latent size, one tally");
   if (n == 0) return;
-  for_each(exec, n, WarmStart{last, xhat, cell, sub, X_guess, F_guess, tally});
+  const WarmStart warm{last, xhat, cell, sub, X_guess, F_guess, tally};
+  if (count.empty())
+    for_each(exec, n, warm);
+  else
+    for_each_up_to(exec, n, count, warm);
 }
 
 void keep_inversions(const Exec& exec, const Inversions& now, const InversionsOut& kept) {
@@ -98,6 +104,7 @@ void keep_inversions(const Exec& exec, const Inversions& now, const InversionsOu
   ROMP_CHECK(
       now.vhat.size() == now.xhat.size() && kept.xhat.size() == now.xhat.size() && kept.vhat.size() == now.xhat.size(),
       "keep_inversions: x̂ and v̂ of the map's latent size");
+  ROMP_CHECK(now.count.size() == kept.count.size(), "keep_inversions: a count kept where the points have one");
   const Index threads = n > now.xhat.size() ? n : now.xhat.size();
   if (threads > 0) for_each(exec, threads, KeepInversions{now, kept});
 }

@@ -26,6 +26,9 @@ struct Inversions {
   Vec3Planes<const float> X, v;
   Mat3Planes<const float> F;
   Span<const float> xhat, vhat;  // the build's x̂ and v̂ (r values each)
+  // Where given, a count on the device: only the first count[0] entries are points (the spans' size is a bound).
+  Span<const std::int64_t> count;
+  ROMP_HD Index points() const { return count.empty() ? cell.size() : count[0]; }
 };
 struct InversionsOut {
   Span<std::uint64_t> cell;
@@ -33,16 +36,19 @@ struct InversionsOut {
   Vec3Planes<float> X, v;
   Mat3Planes<float> F;
   Span<float> xhat, vhat;
+  Span<std::int64_t> count;  // given where the Inversions' count is: receives it
 };
 
 // For each point i at (cell[i], sub[i]) that `last` holds as used, replaces X_guess[i] and F_guess[i] with
-// the warm start above (x̂: this build's), and adds their number to tally[0].warm_starts.
+// the warm start above (x̂: this build's), and adds their number to tally[0].warm_starts. `count`, where
+// given, is a count on the device: only the first count[0] points (cell.size() a bound) are looked up.
 void warm_start_inversions(const Exec& exec, const Inversions& last, Span<const float> xhat,
                            Span<const std::uint64_t> cell, Span<const std::int32_t> sub, Vec3Planes<float> X_guess,
-                           Mat3Planes<float> F_guess, Span<QuadratureTally> tally);
+                           Mat3Planes<float> F_guess, Span<QuadratureTally> tally, Span<const std::int64_t> count = {});
 
 // Copies this build's points and x̂, v̂ (`now`) to `kept`, of the same sizes, in one launch: the points'
-// buffers are refilled by the next build before its warm starts read the last one's.
+// buffers are refilled by the next build before its warm starts read the last one's. With now.count, only
+// the counted points are copied, and the count with them.
 void keep_inversions(const Exec& exec, const Inversions& now, const InversionsOut& kept);
 
 }  // namespace romp::rom

@@ -18,11 +18,6 @@ namespace {
 constexpr std::uint64_t kNoNode = UINT64_MAX;
 constexpr int kNearWidth = 5;   // base nodes within 2 of the sample's, per axis
 constexpr int kCellsWidth = 6;  // cells B − 2 .. B + 3, per axis
-// Candidates up to which build_eulerian_points sizes them by the cells the samples could find, not by the
-// cells they found: 216 ℓ³ per sample, 1,728 at ℓ = 2 (≈ 110 kB each in the candidates' 64 B), so up to ≈ 600
-// samples at ℓ = 2 (the paper's 10 or 50, and 5 per kinematic boundary) read no count back.
-constexpr Index kCandidatesWithoutCount = Index(1) << 20;
-
 // The keys of the width³ nodes (or cells) base − 2 .. base − 3 + width per axis around each sample's
 // base node, kNoNode for those outside [0, upper) on some axis; and the sample of each.
 struct KeysAroundSamples {
@@ -130,8 +125,10 @@ Span<const std::uint64_t> SampleNeighbourhood::near_bases(const Exec& exec, Vec3
   return sort_near_(exec, keys_.prefix(n), samples_.prefix(n)).first;
 }
 
-Index SampleNeighbourhood::build_eulerian_points(const Exec& exec, Vec3Planes<const float> X, Vec3Planes<const float> x,
-                                                 Mat3Planes<const float> F, const EulerianLattice& lattice) {
+SampleNeighbourhood::Points SampleNeighbourhood::build_eulerian_points(const Exec& exec, Vec3Planes<const float> X,
+                                                                       Vec3Planes<const float> x,
+                                                                       Mat3Planes<const float> F,
+                                                                       const EulerianLattice& lattice) {
   const Index m = x.count();
   ROMP_CHECK(X.count() == m && F.count() == m, "the samples' X, x and F need one entry per sample");
   ROMP_CHECK(lattice.dx > 0.0f && lattice.points_per_cell >= 1, "Eulerian points need dx > 0 and ℓ >= 1");
@@ -152,15 +149,17 @@ Index SampleNeighbourhood::build_eulerian_points(const Exec& exec, Vec3Planes<co
   flags_.ensure_size(exec.backend, pairs);
   chosen_.ensure_size(exec.backend, pairs);
   for_each(exec, pairs, FirstOfEachKey{cell_keys, flags_.prefix(pairs)});
-  const Span<const std::int64_t> cell_count = select_.select_on_device(exec, flags_.prefix(pairs), 1, chosen_.span());
+  const Span<const std::int64_t> cell_count =
+      select_cells_.select_on_device(exec, flags_.prefix(pairs), 1, chosen_.span());
 
   // ℓ³ candidates per cell, then those kept, compacted. For few samples the candidates' storage and launch
   // cover every cell the samples could have found (their pairs), so the cells' count stays on the device;
   // for many, whose bound would be far above the cells they share, it is read back.
   const int l = lattice.points_per_cell;
   const Index per_cell = Index(l) * l * l;
-  const Index cells =
-      pairs * per_cell <= kCandidatesWithoutCount ? pairs : Index(download(exec.backend, cell_count, exec.stream)[0]);
+  const Index cells = pairs * per_cell <= lattice.candidates_without_count
+                          ? pairs
+                          : Index(download(exec.backend, cell_count, exec.stream)[0]);
   const Index candidates = cells * per_cell;
   candidates_.ensure_size(exec.backend, 15 * candidates);
   candidate_cells_.ensure_size(exec.backend, candidates);
@@ -174,26 +173,30 @@ Index SampleNeighbourhood::build_eulerian_points(const Exec& exec, Vec3Planes<co
                              Mat3Planes<float>(base + 6 * candidates, candidates), candidate_cells_.prefix(candidates),
                              candidate_subs_.prefix(candidates), flags_.prefix(candidates)});
   candidate_count_ = candidates;
-  kept_count_ = select_(exec, flags_.prefix(candidates), 1, kept_.span());
-  return kept_count_;
+  kept_count_ = select_kept_.select_on_device(exec, flags_.prefix(candidates), 1, kept_.span());
+  return {candidates, kept_count_};
 }
 
 void SampleNeighbourhood::write_eulerian_points(const Exec& exec, Vec3Planes<float> x, Vec3Planes<float> X_guess,
                                                 Mat3Planes<float> F_guess, Span<std::uint64_t> place_cell,
                                                 Span<std::int32_t> place_sub) const {
-  const Index n = kept_count_, c = candidate_count_;
+  const Index c = candidate_count_;
   ROMP_CHECK(
-      x.count() == n && X_guess.count() == n && F_guess.count() == n && place_cell.size() == n && place_sub.size() == n,
-      "write_eulerian_points: room for exactly the points of the last build");
+      x.count() == c && X_guess.count() == c && F_guess.count() == c && place_cell.size() == c && place_sub.size() == c,
+      "write_eulerian_points: room for the last build's bound on its points");
   const float* base = candidates_.data();
-  const Span<const std::int32_t> kept = kept_.prefix(n);
-  for_each(exec, n, GatherPlanes<float>{Span<const float>(base, 3 * c), c, Span<float>(x.data(), 3 * n), kept, 3});
-  for_each(exec, n,
-           GatherPlanes<float>{Span<const float>(base + 3 * c, 3 * c), c, Span<float>(X_guess.data(), 3 * n), kept, 3});
-  for_each(exec, n,
-           GatherPlanes<float>{Span<const float>(base + 6 * c, 9 * c), c, Span<float>(F_guess.data(), 9 * n), kept, 9});
-  for_each(exec, n, GatherPlanes<std::uint64_t>{candidate_cells_.prefix(c), c, place_cell, kept, 1});
-  for_each(exec, n, GatherPlanes<std::int32_t>{candidate_subs_.prefix(c), c, place_sub, kept, 1});
+  const Span<const std::int32_t> kept = kept_.prefix(c);
+  const Span<const std::int64_t> n = kept_count_;
+  for_each_up_to(exec, c, n,
+                 GatherPlanes<float>{Span<const float>(base, 3 * c), c, Span<float>(x.data(), 3 * c), kept, 3});
+  for_each_up_to(
+      exec, c, n,
+      GatherPlanes<float>{Span<const float>(base + 3 * c, 3 * c), c, Span<float>(X_guess.data(), 3 * c), kept, 3});
+  for_each_up_to(
+      exec, c, n,
+      GatherPlanes<float>{Span<const float>(base + 6 * c, 9 * c), c, Span<float>(F_guess.data(), 9 * c), kept, 9});
+  for_each_up_to(exec, c, n, GatherPlanes<std::uint64_t>{candidate_cells_.prefix(c), c, place_cell, kept, 1});
+  for_each_up_to(exec, c, n, GatherPlanes<std::int32_t>{candidate_subs_.prefix(c), c, place_sub, kept, 1});
 }
 
 }  // namespace romp::rom

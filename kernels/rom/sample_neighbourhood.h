@@ -30,6 +30,11 @@ struct EulerianLattice {
   int points_per_cell = 2;          // ℓ, per axis
   int domain_cells[3] = {0, 0, 0};  // cells outside [0, domain_cells) get no points
   bool prune = true;                // keep only the points whose base node is near a sample
+  // Candidates up to which build_eulerian_points sizes them by the cells the samples could find, not by the
+  // cells they found, so that the cells' count stays on the device: 216 ℓ³ per sample, 1,728 at ℓ = 2 (≈ 110 kB
+  // each in the candidates' 64 B), so up to ≈ 600 samples at ℓ = 2 (the paper's 10 or 50, and 5 per
+  // kinematic boundary). Above it the count is read back.
+  Index candidates_without_count = Index(1) << 20;
 };
 
 class SampleNeighbourhood {
@@ -38,27 +43,33 @@ class SampleNeighbourhood {
   // node (UINT64_MAX, for nodes below 0) may be among them. Valid until the next call.
   Span<const std::uint64_t> near_bases(const Exec& exec, Vec3Planes<const float> x, float inverse_dx);
 
-  // Builds the Eulerian points around the samples (reference X, current x, ∇_X g at F, m of each) and
-  // returns their count: one download (two for more than ≈ 600 samples at ℓ = 2, whose cells' count is read
-  // back to size the candidates).
-  Index build_eulerian_points(const Exec& exec, Vec3Planes<const float> X, Vec3Planes<const float> x,
-                              Mat3Planes<const float> F, const EulerianLattice& lattice);
-  // Writes the points of the last build, count of each: positions, first guesses of X and of ∇_X g, and
-  // each point's place (its cell's key and its index among the cell's ℓ³ points), which increase
-  // together: (cell, sub) in lexicographic order.
+  // Builds the Eulerian points around the samples (reference X, current x, ∇_X g at F, m of each): their
+  // count, on the device, and a bound on it for the launches that stop there (for_each_up_to). No download
+  // for up to ≈ 600 samples at ℓ = 2 (the bound is then every cell the samples could find); above, the cells'
+  // count is read back to size the candidates.
+  struct Points {
+    Index bound = 0;
+    Span<const std::int64_t> count;  // valid until the next build
+  };
+  Points build_eulerian_points(const Exec& exec, Vec3Planes<const float> X, Vec3Planes<const float> x,
+                               Mat3Planes<const float> F, const EulerianLattice& lattice);
+  // Writes the points of the last build, the first count of `bound` slots of each: positions, first guesses
+  // of X and of ∇_X g, and each point's place (its cell's key and its index among the cell's ℓ³ points),
+  // which increase together: (cell, sub) in lexicographic order.
   void write_eulerian_points(const Exec& exec, Vec3Planes<float> x, Vec3Planes<float> X_guess,
                              Mat3Planes<float> F_guess, Span<std::uint64_t> place_cell,
                              Span<std::int32_t> place_sub) const;
 
  private:
   PairSorter sort_near_, sort_cells_;
-  IndexSelector select_;
+  IndexSelector select_cells_, select_kept_;  // each keeps its count on the device until its next call
   DeviceBuffer<std::uint64_t> keys_;
   DeviceBuffer<std::int32_t> samples_, flags_, chosen_, kept_;
   DeviceBuffer<float> candidates_;               // per candidate point: x (3 planes), X guess (3), F guess (9)
   DeviceBuffer<std::uint64_t> candidate_cells_;  // and its place: cell key and index in the cell
   DeviceBuffer<std::int32_t> candidate_subs_;
-  Index candidate_count_ = 0, kept_count_ = 0;
+  Index candidate_count_ = 0;            // the candidates' slots, and the bound on the points
+  Span<const std::int64_t> kept_count_;  // the points, on the device
 };
 
 }  // namespace romp::rom

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "kernels/core/device_buffer.h"
+#include "kernels/core/memory.h"
 #include "kernels/math/mat3.h"
 #include "kernels/mpm/bspline.h"
 #include "kernels/rom/sample_neighbourhood.h"
@@ -111,7 +112,10 @@ std::multiset<Point> host_reference(const Samples& s, int l, bool prune) {
   return points;
 }
 
-std::multiset<Point> device_points(SampleNeighbourhood& neighbourhood, const Samples& s, int l, bool prune) {
+// `counted`: the cells' count read back to size the candidates (many samples), else bounded by the cells the
+// samples could find (few samples: no count read back).
+std::multiset<Point> device_points(SampleNeighbourhood& neighbourhood, const Samples& s, int l, bool prune,
+                                   bool counted) {
   const Exec& exec = test::exec();
   const auto X = DeviceBuffer<float>::from_host(exec.backend, s.X, exec.stream);
   const auto x = DeviceBuffer<float>::from_host(exec.backend, s.x, exec.stream);
@@ -121,21 +125,28 @@ std::multiset<Point> device_points(SampleNeighbourhood& neighbourhood, const Sam
   lattice.points_per_cell = l;
   for (int& cells : lattice.domain_cells) cells = 20;
   lattice.prune = prune;
-  const Index n = neighbourhood.build_eulerian_points(exec, Vec3Planes<const float>(X.data(), s.m),
-                                                      Vec3Planes<const float>(x.data(), s.m),
-                                                      Mat3Planes<const float>(F.data(), s.m), lattice);
-  DeviceBuffer<float> out(exec.backend, 15 * n);
-  DeviceBuffer<std::uint64_t> place_cell(exec.backend, n);
-  DeviceBuffer<std::int32_t> place_sub(exec.backend, n);
-  neighbourhood.write_eulerian_points(exec, Vec3Planes<float>(out.data(), n), Vec3Planes<float>(out.data() + 3 * n, n),
-                                      Mat3Planes<float>(out.data() + 6 * n, n), place_cell.span(), place_sub.span());
+  if (counted) lattice.candidates_without_count = 0;
+  const memory::Traffic before = memory::traffic();
+  const SampleNeighbourhood::Points built = neighbourhood.build_eulerian_points(
+      exec, Vec3Planes<const float>(X.data(), s.m), Vec3Planes<const float>(x.data(), s.m),
+      Mat3Planes<const float>(F.data(), s.m), lattice);
+  EXPECT_EQ(memory::traffic().downloads - before.downloads, counted ? 1 : 0);
+  const Index bound = built.bound, n = download(exec.backend, built.count)[0];
+  EXPECT_LE(n, bound);
+  if (!counted) EXPECT_EQ(bound, 6 * 6 * 6 * Index(l) * l * l * s.m);
+  DeviceBuffer<float> out(exec.backend, 15 * bound);
+  DeviceBuffer<std::uint64_t> place_cell(exec.backend, bound);
+  DeviceBuffer<std::int32_t> place_sub(exec.backend, bound);
+  neighbourhood.write_eulerian_points(
+      exec, Vec3Planes<float>(out.data(), bound), Vec3Planes<float>(out.data() + 3 * bound, bound),
+      Mat3Planes<float>(out.data() + 6 * bound, bound), place_cell.span(), place_sub.span());
   const std::vector<float> host = out.to_host(exec.stream);
   const std::vector<std::uint64_t> cells = place_cell.to_host(exec.stream);
   const std::vector<std::int32_t> subs = place_sub.to_host(exec.stream);
   std::multiset<Point> points;
   for (Index q = 0; q < n; ++q) {
     Point p;
-    for (int e = 0; e < 15; ++e) p[e] = host[e * n + q];
+    for (int e = 0; e < 15; ++e) p[e] = host[e * bound + q];
     points.insert(p);
     // The place names the point: x = (cell + (sub's digit + ½) / ℓ) dx per axis, and places increase.
     const int cell[3] = {int(cells[q] >> 42), int((cells[q] >> 21) & 0x1fffff), int(cells[q] & 0x1fffff)};
@@ -150,12 +161,14 @@ TEST(SampleNeighbourhood, BuildsTheHostReferencesEulerianPoints) {
   const Samples samples = make_samples();
   SampleNeighbourhood neighbourhood;
   for (const int l : {1, 2, 3})
-    for (const bool prune : {true, false}) {
-      const std::multiset<Point> expected = host_reference(samples, l, prune);
-      ASSERT_GT(expected.size(), 100u);
-      // Rebuilt with the same object: its kept buffers must not carry the last build's points over.
-      EXPECT_TRUE(device_points(neighbourhood, samples, l, prune) == expected) << "l = " << l << ", prune = " << prune;
-    }
+    for (const bool prune : {true, false})
+      for (const bool counted : {false, true}) {
+        const std::multiset<Point> expected = host_reference(samples, l, prune);
+        ASSERT_GT(expected.size(), 100u);
+        // Rebuilt with the same object: its kept buffers must not carry the last build's points over.
+        EXPECT_TRUE(device_points(neighbourhood, samples, l, prune, counted) == expected)
+            << "l = " << l << ", prune = " << prune << ", counted = " << counted;
+      }
 }
 
 TEST(SampleNeighbourhood, NearBasesAreTheNodesWithinTwoOfEverySamplesBase) {
