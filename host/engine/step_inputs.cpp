@@ -39,8 +39,25 @@ StepInputs::StepInputs(const Exec& exec, const FullOrderConfig& config) : exec_(
     max_wave_speed_ = std::max(max_wave_speed_, std::sqrt((m.params.lambda + 2.0f * m.params.mu) / m.density));
   }
   upload_materials(0.0);
-  // Sized once for every collider, motion and load the scene has, so a substep uploads into them
-  // without allocating (an allocation synchronises a CUDA device).
+  for (const auto& [what, count] : {std::pair<const char*, std::size_t>{"colliders", config.colliders.size()},
+                                    {"loads.pokes", config.loads.size()},
+                                    {"loads.tractions", config.tractions.size()}})
+    ROMP_CHECK(count <= std::size_t(mpm::kMostScheduledInputs),
+               fmt::format("{}: at most {} in a scene, got {}", what, mpm::kMostScheduledInputs, count));
+  // The schedule goes up once; the tables are sized for all of it, so a substep computes them in place.
+  std::vector<mpm::ColliderState> colliders;
+  for (const ColliderSpec& spec : config.colliders) colliders.push_back(spec.initial);
+  std::vector<mpm::ScheduledMotion> motions;
+  for (const DirichletSpec& spec : config.dirichlet)
+    motions.push_back({spec.pivot, spec.linear_velocity, spec.angular_velocity});
+  std::vector<mpm::RegionLoad> loads;
+  for (const RegionLoadSpec& spec : config.loads) loads.push_back(spec.load);
+  std::vector<Vec3<float>> tractions;
+  for (const TractionSpec& spec : config.tractions) tractions.push_back(spec.traction);
+  collider_schedule_ = DeviceBuffer<mpm::ColliderState>::from_host(exec.backend, colliders);
+  motion_schedule_ = DeviceBuffer<mpm::ScheduledMotion>::from_host(exec.backend, motions);
+  load_schedule_ = DeviceBuffer<mpm::RegionLoad>::from_host(exec.backend, loads);
+  traction_schedule_ = DeviceBuffer<Vec3<float>>::from_host(exec.backend, tractions);
   colliders_ = DeviceBuffer<mpm::ColliderState>(exec.backend, Index(config.colliders.size()));
   dirichlet_ = DeviceBuffer<mpm::RigidMotion>(exec.backend, Index(config.dirichlet.size()));
   loads_ = DeviceBuffer<mpm::RegionLoad>(exec.backend, Index(config.loads.size()));
@@ -65,26 +82,26 @@ void StepInputs::upload_materials(double time) {
 mpm::StepParams StepInputs::at(double time, float dt) {
   const FullOrderConfig& config = config_;
   upload_materials(time);
-  std::vector<mpm::ColliderState> colliders;
-  for (const ColliderSpec& spec : config.colliders) {
-    if (time >= spec.end) continue;
-    mpm::ColliderState c = spec.initial;
-    c.center = c.center + float(time) * c.linear_velocity;
-    c.rotation = rotation_from_vector(float(time) * c.angular_velocity) * c.rotation;
-    colliders.push_back(c);
+  mpm::ActiveInputs active;
+  Index colliders = 0, loads = 0;
+  for (std::size_t i = 0; i < config.colliders.size(); ++i) {
+    if (time >= config.colliders[i].end) continue;
+    active.colliders |= std::uint64_t(1) << i;
+    ++colliders;
   }
-  std::vector<mpm::RigidMotion> motions;
-  for (const DirichletSpec& spec : config.dirichlet) {
-    motions.push_back(mpm::RigidMotion{spec.pivot + float(time) * spec.linear_velocity, spec.linear_velocity,
-                                       spec.angular_velocity, rotation_from_vector(dt * spec.angular_velocity)});
+  for (std::size_t i = 0; i < config.loads.size(); ++i) {
+    if (time < config.loads[i].start || time >= config.loads[i].end) continue;
+    active.loads |= std::uint64_t(1) << i;
+    ++loads;
   }
-  std::vector<mpm::RegionLoad> loads;
-  for (const RegionLoadSpec& spec : config.loads)
-    if (time >= spec.start && time < spec.end) loads.push_back(spec.load);
   // Every traction keeps its index (the particles name it): an inactive one is 0.
-  std::vector<Vec3<float>> tractions;
-  for (const TractionSpec& spec : config.tractions)
-    tractions.push_back(time >= spec.start && time < spec.end ? spec.traction : Vec3<float>::zero());
+  for (std::size_t i = 0; i < config.tractions.size(); ++i)
+    if (time >= config.tractions[i].start && time < config.tractions[i].end) active.tractions |= std::uint64_t(1) << i;
+  const mpm::InputTables tables{colliders_.prefix(colliders), dirichlet_.span(), loads_.prefix(loads),
+                                tractions_.span()};
+  mpm::inputs_at(exec_,
+                 {collider_schedule_.span(), motion_schedule_.span(), load_schedule_.span(), traction_schedule_.span()},
+                 time, dt, active, tables);
   fill(exec_, first_failure_.span().subspan(0, speed_slot()), mpm::kNoFailure);
   memory::fill_zero(first_failure_.data() + speed_slot(), exec_.backend, sizeof(float), exec_.stream);
 
@@ -96,11 +113,10 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   step.domain = config.domain();
   step.wall_friction = config.wall_friction;
   step.materials = materials_.span();
-  // The active ones fill the front of buffers sized for all of them: no allocation.
-  step.colliders = colliders_.upload_front(exec_.backend, colliders, exec_.stream);
-  step.dirichlet = dirichlet_.upload_front(exec_.backend, motions, exec_.stream);
-  step.loads = loads_.upload_front(exec_.backend, loads, exec_.stream);
-  step.tractions = tractions_.upload_front(exec_.backend, tractions, exec_.stream);
+  step.colliders = tables.colliders;
+  step.dirichlet = tables.dirichlet;
+  step.loads = tables.loads;
+  step.tractions = tables.tractions;
   step.first_failure = first_failure_.span().subspan(0, mpm::kStageCount);
   step.largest_speed = Span<float>(reinterpret_cast<float*>(first_failure_.data() + speed_slot()), 1);
   return step;

@@ -13,6 +13,7 @@
 #include "kernels/core/device_buffer.h"
 #include "kernels/core/error.h"
 #include "kernels/core/exec.h"
+#include "kernels/mpm/input_schedule.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/step.h"
 
@@ -47,7 +48,8 @@ class StepInputs {
   StepInputs(const Exec& exec, const FullOrderConfig& config);
 
   // The parameters of a substep [time, time + dt]: colliders moved to `time`, the Dirichlet motions
-  // and the loads active then, failure slots reset to "no failure" and the largest speed to 0.
+  // and the loads active then (computed on the device, mpm::inputs_at: nothing uploaded), failure slots
+  // reset to "no failure" and the largest speed to 0.
   mpm::StepParams at(double time, float dt);
   // After a substep, one download: the stages' failure slots, the largest speed the substep's moved
   // particles stored (StepParams::largest_speed, for the next CFL step), and what reserve_readback added.
@@ -84,6 +86,11 @@ class StepInputs {
   float max_wave_speed_ = 0.0f;
   DeviceBuffer<material::MaterialParams<float>> materials_;
   std::vector<bool> strength_off_;  // per material, as materials_ holds it now
+  // The scene's schedule, uploaded once, and the tables `at` computes from it on the device.
+  DeviceBuffer<mpm::ColliderState> collider_schedule_;
+  DeviceBuffer<mpm::ScheduledMotion> motion_schedule_;
+  DeviceBuffer<mpm::RegionLoad> load_schedule_;
+  DeviceBuffer<Vec3<float>> traction_schedule_;
   DeviceBuffer<mpm::ColliderState> colliders_;
   DeviceBuffer<mpm::RigidMotion> dirichlet_;
   DeviceBuffer<mpm::RegionLoad> loads_;
