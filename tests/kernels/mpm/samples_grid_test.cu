@@ -17,6 +17,7 @@
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/mpm/stencil_nodes.h"
 #include "kernels/mpm/step.h"
+#include "tests/support/random_planes.h"
 #include "tests/support/test_exec.h"
 
 namespace romp::mpm {
@@ -24,15 +25,6 @@ namespace {
 
 constexpr float kDx = 1.0f / 32.0f;
 constexpr int kCells = 32;
-
-// n random points in [lo, hi)^3 (three planes).
-std::vector<float> random_planes(Index n, float lo, float hi, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(lo, hi);
-  std::vector<float> x(3 * n);
-  for (float& value : x) value = u(rng);
-  return x;
-}
 
 // Every third point of `x` (three planes of n): the "samples" the grid is built from.
 std::vector<float> every_third(const std::vector<float>& x, Index n) {
@@ -47,7 +39,7 @@ ParticleInit moving_particles(std::vector<float> x) {
   const Index n = Index(x.size() / 3);
   ParticleInit init;
   init.x = std::move(x);
-  init.v = random_planes(n, -1.0f, 1.0f, 3);
+  init.v = test::random_planes(n, -1.0f, 1.0f, 3);
   init.F = std::vector<float>(9 * n);
   std::mt19937 rng(4);
   std::uniform_real_distribution<float> stretch(-0.1f, 0.1f);
@@ -108,7 +100,7 @@ std::vector<float> samples_nodes(const GridView& grid, const DeviceBuffer<float>
 TEST(SparseGrid, FewPointsGridHoldsTheirBlocksWithoutReadingItsCountBack) {
   const Exec& exec = test::exec();
   const Index n = 300;
-  const std::vector<float> x = random_planes(n, 3 * kDx, 1.0f - 3 * kDx, 8);
+  const std::vector<float> x = test::random_planes(n, 3 * kDx, 1.0f - 3 * kDx, 8);
   const DeviceBuffer<float> positions = DeviceBuffer<float>::from_host(exec.backend, x);
   SparseGrid counted(exec.backend, kDx, false), few(exec.backend, kDx, false);
   counted.rebuild(exec, Vec3Planes<const float>(positions.data(), n));
@@ -136,7 +128,7 @@ TEST(SparseGrid, FewPointsGridHoldsTheirBlocksWithoutReadingItsCountBack) {
 TEST(ParticleToGridActiveNodes, GivesTheSamplesNodesWhatTheFullGridGives) {
   const Exec& exec = test::exec();
   const Index n = 900;
-  const std::vector<float> x = random_planes(n, 0.3f, 0.6f, 9);
+  const std::vector<float> x = test::random_planes(n, 0.3f, 0.6f, 9);
   ParticleSet particles(exec.backend, moving_particles(x));
   const std::vector<float> picked = every_third(x, n);
   const Index m = Index(picked.size() / 3);
@@ -150,7 +142,8 @@ TEST(ParticleToGridActiveNodes, GivesTheSamplesNodesWhatTheFullGridGives) {
 
   Step few_step;
   SparseGrid few(exec.backend, kDx, false);
-  const DeviceBuffer<float> spread = DeviceBuffer<float>::from_host(exec.backend, random_planes(m, 0.1f, 0.9f, 10));
+  const DeviceBuffer<float> spread =
+      DeviceBuffer<float>::from_host(exec.backend, test::random_planes(m, 0.1f, 0.9f, 10));
   few.rebuild_for_few_points(exec, Vec3Planes<const float>(spread.data(), m));
   const GridView stale = few.view();
   const float nan = std::numeric_limits<float>::quiet_NaN();

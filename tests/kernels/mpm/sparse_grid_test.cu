@@ -14,21 +14,13 @@
 #include "kernels/mpm/bspline.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
+#include "tests/support/random_planes.h"
 #include "tests/support/test_exec.h"
 
 namespace romp::mpm {
 namespace {
 
 constexpr float kDx = 1.0f / 64.0f;
-
-// Random positions in [lo, hi)^3, as three planes.
-std::vector<float> random_positions(Index n, float lo, float hi, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(lo, hi);
-  std::vector<float> x(3 * n);
-  for (float& value : x) value = u(rng);
-  return x;
-}
 
 std::set<std::uint64_t> expected_blocks(const std::vector<float>& x, Index n) {
   std::set<std::uint64_t> blocks;
@@ -67,7 +59,7 @@ TEST(SparseGrid, ActivatesExactlyTheBlocksOfTheStencilsAndGrows) {
   const Exec& exec = test::exec();
   // Spread over the whole unit cube: thousands of blocks, far more than the initial provision.
   const Index n = 20000;
-  const std::vector<float> x = random_positions(n, 2 * kDx, 1.0f - 2 * kDx, 7);
+  const std::vector<float> x = test::random_planes(n, 2 * kDx, 1.0f - 2 * kDx, 7);
   const DeviceBuffer<float> positions = DeviceBuffer<float>::from_host(exec.backend, x, exec.stream);
   SparseGrid grid(exec.backend, kDx, false);
   grid.rebuild(exec, Vec3Planes<const float>(positions.data(), n));
@@ -102,7 +94,7 @@ TEST(SparseGrid, InactiveBlockIsNotFound) {
 TEST(SparseGrid, MemoryFollowsTheOccupiedBlocksDownAgain) {
   const Exec& exec = test::exec();
   const Index n = 20000;
-  const std::vector<float> spread = random_positions(n, 2 * kDx, 1.0f - 2 * kDx, 5);
+  const std::vector<float> spread = test::random_planes(n, 2 * kDx, 1.0f - 2 * kDx, 5);
   const std::vector<float> clustered(3 * n, 0.5f);
   const DeviceBuffer<float> wide = DeviceBuffer<float>::from_host(exec.backend, spread, exec.stream);
   const DeviceBuffer<float> narrow = DeviceBuffer<float>::from_host(exec.backend, clustered, exec.stream);
@@ -143,7 +135,7 @@ TEST(SparseGrid, GridAroundSortedBlocksHoldsTheStencilsOfParticlesThatDrifted) {
   const Exec& exec = test::exec();
   const Index n = 4000;
   ParticleSet particles(exec.backend,
-                        unit_particles(random_positions(n, 8 * kDx, 0.5f, 21), std::vector<float>(3 * n)));
+                        unit_particles(test::random_planes(n, 8 * kDx, 0.5f, 21), std::vector<float>(3 * n)));
   particles.sort_by_block(exec, 1.0f / kDx);
   SparseGrid grid(exec.backend, kDx, false);
   grid.rebuild_around_blocks(exec, particles.block_starts(), particles.sorted_block_keys());
@@ -176,7 +168,7 @@ TEST(ParticleSet, BlockSortIsAPermutationThatCanBeUndone) {
   const Exec& exec = test::exec();
   const Index n = 5000;
   const ParticleInit init =
-      unit_particles(random_positions(n, 2 * kDx, 1.0f - 2 * kDx, 11), random_positions(n, -1.0f, 1.0f, 12));
+      unit_particles(test::random_planes(n, 2 * kDx, 1.0f - 2 * kDx, 11), test::random_planes(n, -1.0f, 1.0f, 12));
   ParticleSet particles(exec.backend, init);
   particles.sort_by_block(exec, 1.0f / kDx);
 
