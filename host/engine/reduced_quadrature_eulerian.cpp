@@ -65,14 +65,15 @@ EulerianQuadrature::EulerianQuadrature(const Exec& exec, const mpm::ParticleInit
 mpm::ParticleView EulerianQuadrature::build(const Exec& exec, const DeformationMap& map, const SampleSet& samples,
                                             Span<const float> xhat, Span<const float> vhat) {
   // Alg. 4, step 3: ℓ³ points in each cell whose points may reach a sample's grid nodes, of which only
-  // those whose stencils reach them (unless the lattice keeps them all), built on the device.
-  // Counted on the device: `count` slots hold them, the first point_count_[0] of which are points; every
-  // launch below runs over the slots and stops there.
+  // those whose stencils reach them (unless the lattice keeps them all), built and counted on the device:
+  // `count` slots hold them, the first point_count_[0] of which are points, and every launch below runs
+  // over the slots and stops there.
   const rom::SampleNeighbourhood::Points built =
       neighbourhood_.build_eulerian_points(exec, samples.X(), samples.x(), samples.F(), settings_.lattice);
   const Index count = built.bound;
   point_count_ = built.count;
-  // The count changes nearly every substep: the buffers grow with headroom and are otherwise reused.
+  // The slots are a fixed bound for few samples and follow the cells found for many: the buffers grow with
+  // headroom and are otherwise reused.
   if (points_.resize(exec.backend, count)) {
     // No Eulerian point is a material point or in a Dirichlet group; set once for the whole capacity.
     const Index capacity = points_.capacity;

@@ -8,7 +8,6 @@
 
 #include "host/engine/full_order_sim.h"
 #include "host/engine/stage_clock.h"
-#include "kernels/core/fill.h"
 #include "kernels/mpm/step.h"
 #include "kernels/rom/reduced_dynamics.h"
 
@@ -160,9 +159,9 @@ void ReducedSim::substep(float dt) {
   timed([&] {
     samples_.decode(exec_, map_, latent_.xhat(), latent_.vhat());
     const Vec3Planes<float> sample_x(samples_.points().x.data(), m);
-    keep_inside_domain(sample_x, {});  // before the quadrature is placed around the samples
+    keep_inside_domain(sample_x, kSampleOutside);  // before the quadrature is placed around the samples
     quadrature = quadrature_->build(exec_, map_, samples_, latent_.xhat(), latent_.vhat());
-    keep_inside_domain({}, quadrature_->material_positions().x);
+    keep_inside_domain(quadrature_->material_positions().x, kQuadratureOutside);
   });
   // Alg. 5: P2G from the quadrature points, the grid update, G2P at the samples, on a grid of the samples'
   // stencils alone: G2P reads no other node and the update goes node by node, so the quadrature's shares
@@ -213,18 +212,16 @@ void ReducedSim::check_latent(const char* stage) const {
                          steps_, mpm::Stage::G2P, -1);
 }
 
-void ReducedSim::keep_inside_domain(Vec3Planes<float> sample_x, Vec3Planes<float> quadrature_x) {
-  const mpm::Domain domain = config_.domain();
-  rom::keep_points_inside(exec_, sample_x, domain, config_.dx, readback_.slots.subspan(0, 1));
-  rom::keep_points_inside(exec_, quadrature_x, domain, config_.dx, readback_.slots.subspan(1, 1));
+void ReducedSim::keep_inside_domain(Vec3Planes<float> x, OutsideSlot slot) {
+  rom::keep_points_inside(exec_, x, config_.domain(), config_.dx, readback_.slots.subspan(slot, 1));
 }
 
 void ReducedSim::throw_if_outside_domain() {
   const std::vector<std::int64_t>& slots = inputs_.readback_slots();
-  const int set = slots[0] != rom::kNoPointOutside ? 0 : slots[1] != rom::kNoPointOutside ? 1 : -1;
-  if (set < 0) return;
-  const std::int64_t slot = slots[std::size_t(set)];
-  const Span<const std::int32_t> points = set == 0 ? samples_.index() : quadrature_->material_positions().index;
+  const bool sample = slots[kSampleOutside] != rom::kNoPointOutside;
+  if (!sample && slots[kQuadratureOutside] == rom::kNoPointOutside) return;
+  const std::int64_t slot = slots[sample ? kSampleOutside : kQuadratureOutside];
+  const Span<const std::int32_t> points = sample ? samples_.index() : quadrature_->material_positions().index;
   const std::int64_t point = points.empty() ? slot : download(exec_.backend, points.subspan(slot, 1), exec_.stream)[0];
   // g at the point's reference position and the substep's x̂ (xhat_ until the substep succeeds).
   const Index n = reference_.count;

@@ -143,10 +143,11 @@ class ReducedSim {
  private:
   // Throws NonFiniteError when x̂ or v̂ is not finite after `stage`.
   void check_latent(const char* stage) const;
-  // Moves the samples' positions (3 planes of `samples`) back inside the grid's interior, noting the first
-  // that was outside in readback_.slots[0], and likewise the quadrature's material points in slots[1]
-  // (rom::keep_points_inside): the substep goes on without waiting, on positions the grid can hold.
-  void keep_inside_domain(Vec3Planes<float> sample_x, Vec3Planes<float> quadrature_x);
+  // The read-back slots of the first point outside the domain: of the samples, of the quadrature's material points.
+  enum OutsideSlot { kSampleOutside = 0, kQuadratureOutside = 1 };
+  // Moves the points at x back inside the grid's interior, noting the first that was outside in readback_'s
+  // slot `slot` (rom::keep_points_inside): the substep goes on without waiting, on positions the grid holds.
+  void keep_inside_domain(Vec3Planes<float> x, OutsideSlot slot);
   // After the read-back: throws NonFiniteError naming the first material point that was outside (x̂ has
   // gone where the map no longer describes the body), samples first, with its position decoded afresh at
   // the substep's x̂ (the step moved it inside).
