@@ -10,7 +10,6 @@
 
 #include "kernels/core/fill.h"
 #include "kernels/core/memory.h"
-#include "kernels/math/rotation.h"
 
 namespace romp::engine {
 

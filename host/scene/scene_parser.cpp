@@ -17,6 +17,7 @@
 #include "host/scene/toml_writer.h"
 #include "kernels/core/error.h"
 #include "kernels/math/rotation.h"
+#include "kernels/mpm/input_schedule.h"
 #include "nn/io/snapshot_layout.h"
 #include "nn/nclaw/law_file_format.h"
 
@@ -334,8 +335,17 @@ void read_objects(SceneReader& r, TableReader& root) {
   }
 }
 
+// The engine computes a substep's colliders, pokes and tractions on the device from masks of which act
+// (mpm::kMostScheduledInputs bits).
+std::vector<TableReader> scheduled_tables(TableReader& parent, const std::string& key) {
+  std::vector<TableReader> tables = parent.tables(key);
+  if (tables.size() > std::size_t(mpm::kMostScheduledInputs))
+    parent.fail(key, fmt::format("at most {} entries, got {}", mpm::kMostScheduledInputs, tables.size()));
+  return tables;
+}
+
 void read_colliders(SceneReader& r, TableReader& root) {
-  for (TableReader& t : root.tables("colliders")) {
+  for (TableReader& t : scheduled_tables(root, "colliders")) {
     ColliderSpecification c;
     const std::string type = t.required_choice("type", {"plane", "box", "sphere", "cylinder"});
     if (type == "plane") {
@@ -410,7 +420,7 @@ void read_domain_releases(SceneReader& r, TableReader& root) {
 
 void read_loads(SceneReader& r, TableReader t) {
   r.scene.gravity = t.vec3("gravity", Vec3<double>(0.0, -9.81, 0.0));
-  for (TableReader& p : t.tables("pokes")) {
+  for (TableReader& p : scheduled_tables(t, "pokes")) {
     PokeSpec poke;
     poke.region = read_region(r, p, "poke");
     poke.acceleration = p.required_vec3("acceleration");
@@ -420,7 +430,7 @@ void read_loads(SceneReader& r, TableReader t) {
     p.finish();
     r.scene.pokes.push_back(std::move(poke));
   }
-  const std::vector<TableReader> tractions = t.tables("tractions");
+  const std::vector<TableReader> tractions = scheduled_tables(t, "tractions");
   for (std::size_t i = 0; i < tractions.size(); ++i) {
     TableReader p = tractions[i];
     TractionSpecification traction;

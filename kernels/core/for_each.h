@@ -98,22 +98,23 @@ struct UpTo {
   Span<const std::int64_t> count;
   F functor;
   ROMP_HD void operator()(Index i) const {
-    if (i < count[0]) functor(i);
+    if (count.empty() || i < count[0]) functor(i);
   }
 };
 }  // namespace detail
 
-// The elements to launch for `bound` of which the first count[0] (a value on exec's backend) are live: the
-// bound on CUDA, where the count stays (no round trip to learn it), and the count itself on the CPU, where
-// it is in reach and a loop over the bound would hand the live prefix to the first of its threads.
+// The elements to launch for `bound` of which the first count[0] (a value on exec's backend; empty: all
+// `bound`) are live: the bound on CUDA, where the count stays (no round trip to learn it), and the count
+// itself on the CPU, where it is in reach and a loop over the bound would hand the live prefix to the
+// first of its threads.
 inline Index launch_size_up_to(const Exec& exec, Index bound, Span<const std::int64_t> count) {
-  if (exec.is_cuda()) return bound;
+  if (count.empty() || exec.is_cuda()) return bound;
   const memory::DeviceAccess read;
   return count[0] < bound ? Index(count[0]) : bound;
 }
 
-// functor(i) for the i < count[0] of at most `bound` elements, count a value on exec's backend: a launch
-// sized on the host while the count stays where a device computed it.
+// functor(i) for the i < count[0] of at most `bound` elements, count a value on exec's backend (empty: every
+// i < bound): a launch sized on the host while the count stays where a device computed it.
 template <int kBlockSize = detail::kForEachBlockSize, class F>
 void for_each_up_to(const Exec& exec, Index bound, Span<const std::int64_t> count, const F& functor) {
   for_each<kBlockSize>(exec, launch_size_up_to(exec, bound, count), detail::UpTo<F>{count, functor});

@@ -8,11 +8,7 @@ namespace romp {
 template <class T>
 void gather_planes(const Exec& exec, Span<const T> source, Index source_count, int components,
                    Span<const std::int32_t> index, Span<T> destination, Span<const std::int64_t> count) {
-  const GatherPlanes<T> gather{source, source_count, destination, index, components};
-  if (count.empty())
-    for_each(exec, index.size(), gather);
-  else
-    for_each_up_to(exec, index.size(), count, gather);
+  for_each_up_to(exec, index.size(), count, GatherPlanes<T>{source, source_count, destination, index, components});
 }
 
 template void gather_planes<float>(const Exec&, Span<const float>, Index, int, Span<const std::int32_t>, Span<float>,

@@ -24,11 +24,7 @@ void particle_to_grid(const Exec& exec, const ParticleView& particles, const Gri
 
 void particle_to_grid_active_nodes(const Exec& exec, const ParticleView& particles, const GridView& grid,
                                    const StepParams& step, Span<const std::int64_t> live) {
-  const ParticleToGrid<true> scatter{particles, grid, step};
-  if (live.empty())
-    for_each(exec, particles.count, scatter);
-  else
-    for_each_up_to(exec, particles.count, live, scatter);
+  for_each_up_to(exec, particles.count, live, ParticleToGrid<true>{particles, grid, step});
 }
 
 }  // namespace romp::mpm

@@ -204,7 +204,7 @@ void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map,
              "the quadrature volume, iteration count and tolerance must be > 0");
   if (n == 0) return;
   with_map_evaluator(map, kernel, exec.backend, [&](const auto& evaluator) {
-    for_each(exec, count.empty() ? n : launch_size_up_to(exec, n, count),
+    for_each(exec, launch_size_up_to(exec, n, count),
              EulerianPoint<std::decay_t<decltype(evaluator)>>{evaluator, xhat.data(), vhat.data(), occupancy, density,
                                                               volume, options, x, X_guess, F_guess, out, count});
   });
@@ -241,10 +241,7 @@ void tally_quadrature(const Exec& exec, const EulerianPointsOut& out, Index n, S
              "tally_quadrature: a status, iteration and evaluation count and mass for each of the n points, one "
              "tally");
   for_each(exec, 1, ClearLastMass{tally});
-  if (count.empty())
-    for_each(exec, n, TallyPoint{out, tally});
-  else
-    for_each_up_to(exec, n, count, TallyPoint{out, tally});
+  for_each_up_to(exec, n, count, TallyPoint{out, tally});
 }
 
 }  // namespace romp::rom

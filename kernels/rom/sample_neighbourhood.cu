@@ -18,6 +18,7 @@ namespace {
 constexpr std::uint64_t kNoNode = UINT64_MAX;
 constexpr int kNearWidth = 5;   // base nodes within 2 of the sample's, per axis
 constexpr int kCellsWidth = 6;  // cells B − 2 .. B + 3, per axis
+
 // The keys of the width³ nodes (or cells) base − 2 .. base − 3 + width per axis around each sample's
 // base node, kNoNode for those outside [0, upper) on some axis; and the sample of each.
 struct KeysAroundSamples {

@@ -116,6 +116,31 @@ TEST(SceneParser, NamesWithControlCharactersAreRefused) {
   EXPECT_NE(object_name.find("name: must not hold control characters"), std::string::npos) << object_name;
 }
 
+// A substep's colliders, pokes and tractions are chosen on the device by bit masks: more than 64 of any are
+// refused by the scene's key, not found out by the engine.
+TEST(SceneParser, MoreThan64CollidersPokesOrTractionsAreRefusedByKey) {
+  const auto repeated = [](const std::string& table, int count) {
+    std::string text;
+    for (int i = 0; i < count; ++i) text += table;
+    return text;
+  };
+  const std::string collider = "\n[[colliders]]\ntype = \"plane\"\npoint = [0, 0.1, 0]\nnormal = [0, 1, 0]\n";
+  const std::string poke =
+      "\n[[loads.pokes]]\nregion = { type = \"sphere\", center = [0.5, 0.5, 0.5], radius = 0.1 }\n"
+      "acceleration = [0, 1, 0]\nend = 0.1\n";
+  const std::string traction =
+      "\n[[loads.tractions]]\nregion = { type = \"sphere\", center = [0.5, 0.5, 0.5], radius = 0.1 }\n"
+      "traction = [0, 1, 0]\n";
+  for (const auto& [table, key] : {std::pair<std::string, std::string>{collider, "colliders"},
+                                   {poke, "loads.pokes"},
+                                   {traction, "loads.tractions"}}) {
+    EXPECT_NO_THROW(parse_scene(kCube + repeated(table, 64), "cube.toml")) << key;
+    const std::string message = test::error_message([&] { parse_scene(kCube + repeated(table, 65), "cube.toml"); });
+    EXPECT_NE(message.find("cube.toml"), std::string::npos) << message;
+    EXPECT_NE(message.find(key + ": at most 64 entries, got 65"), std::string::npos) << message;
+  }
+}
+
 TEST(SceneParser, TheImplicitIntegratorAllowsALargerCfl) {
   EXPECT_EQ(parse_scene(kCube, "cube.toml").integrator, "explicit");
   std::string text = kCube;
