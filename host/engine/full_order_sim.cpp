@@ -28,7 +28,8 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
   ROMP_CHECK(config_.sort_every >= 0,
              fmt::format("sort_every must be >= 0 (0: the backend's choice), got {}", config_.sort_every));
   sort_every_ = config_.sort_every > 0 ? config_.sort_every : exec.is_cuda() ? kSortEveryOnCuda : 1;
-  if (sort_every_ > 1) left_grid_slot_ = inputs_.reserve_readback(1).values;
+  // Where G2P flags a particle that left the grid built at the last sort, read back with the failure slots.
+  if (sort_every_ > 1) inputs_.reserve_readback(1, 0);
   if (!init.domains.empty()) domains_.emplace(exec.backend, init.domains);
   released_.assign(config_.dirichlet.size(), false);
   if (config_.integrator == Integrator::Implicit) implicit_.emplace(exec.backend, config_.implicit);
@@ -84,7 +85,8 @@ void FullOrderSim::substep(float dt) {
   const float inverse_dx = 1.0f / config_.dx;
   // A grid that follows the sort serves until a particle's stencil leaves it: the last substep's G2P said so.
   const bool follows_sort = grid_follows_sort();
-  const bool left_grid = follows_sort && sorted_ && inputs_.readback()[0] > 0.0f;
+  const Span<float> left_grid_slot = inputs_.readback_row().values;  // empty when sort_every is 1
+  const bool left_grid = follows_sort && sorted_ && inputs_.readback_values(0)[0] > 0.0f;
   const bool sort_now = !sorted_ || steps_ % sort_every_ == 0 || left_grid;
   // The stage runs empty between sorts, so the stage table keeps its rows.
   timed([&] {
@@ -92,7 +94,7 @@ void FullOrderSim::substep(float dt) {
     particles_.sort_by_block(exec_, inverse_dx);
     ++sorting_.sorts;
     if (sorted_ && steps_ % sort_every_ != 0) ++sorting_.early_sorts;
-    if (follows_sort) memory::fill_zero(left_grid_slot_.data(), exec_.backend, sizeof(float), exec_.stream);
+    if (follows_sort) memory::fill_zero(left_grid_slot.data(), exec_.backend, sizeof(float), exec_.stream);
   });
   sorted_ = true;
   const mpm::ParticleView particles = particles_.view();
@@ -124,7 +126,7 @@ void FullOrderSim::substep(float dt) {
   timed([&] {
     mpm::grid_to_particle(
         exec_, particles, grid, step,
-        follows_sort ? mpm::GridCoverage{particles_.sorted_block_keys(), left_grid_slot_} : mpm::GridCoverage{});
+        follows_sort ? mpm::GridCoverage{particles_.sorted_block_keys(), left_grid_slot} : mpm::GridCoverage{});
   });
   if (domains_) {
     timed([&] { mpm::grid_to_corners(exec_, domains, grid, step); });
@@ -148,8 +150,9 @@ void FullOrderSim::substep(float dt) {
   }
   // The failure slots come back with the particles' largest speed, the next CFL step's, and (with a kept grid)
   // whether a particle left it: one download.
-  last_particle_speed_ = inputs_.read_back();
-  inputs_.check_stages("", steps_, time_, [this](mpm::Stage, std::int64_t slot) {
+  inputs_.read_back();
+  last_particle_speed_ = inputs_.largest_speed(0);
+  inputs_.check_stages(0, "", steps_, time_, [this](mpm::Stage, std::int64_t slot) {
     // Report the particle by its initial index, which is what outputs and scenes refer to.
     const std::int32_t id = download(exec_.backend, particles_.view().id.subspan(slot, 1), exec_.stream)[0];
     return std::pair<std::int64_t, std::string>(id, fmt::format("particle {}", id));

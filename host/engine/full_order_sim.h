@@ -115,9 +115,6 @@ class FullOrderSim {
   int sort_every_ = 1;
   bool sorted_ = false;
   SortStatistics sorting_;
-  // Where G2P flags a particle that left the grid built at the last sort, read back with the failure slots
-  // (empty when sort_every is 1).
-  Span<float> left_grid_slot_;
   std::optional<ImplicitGridSolver> implicit_;  // with Integrator::Implicit only
   std::unique_ptr<NeuralMaterials> neural_;     // when some material is a learned law
   std::optional<TracerSet> tracers_;

@@ -9,15 +9,14 @@
 namespace romp::engine {
 
 LatentProjection::LatentProjection(Backend backend, const std::vector<float>& initial_xhat, bool positions,
-                                   rom::GaussNewtonOptions options, Span<float> state)
+                                   rom::GaussNewtonOptions options)
     : latent_size_(int(initial_xhat.size())),
       positions_(positions),
       options_(options),
-      latent_(state),
+      latent_(backend, 2 * Index(latent_size_) + 1),
       system_(backend, Index(latent_size_) * latent_size_ + latent_size_ + 1) {
-  ROMP_CHECK(latent_.size() == 2 * Index(latent_size_) + 1, "the reduced state needs 2 r + 1 values: [x̂ | v̂ | status]");
   // v̂ = 0 and the status "solved" until set.
-  memory::fill_zero(latent_.data(), backend, std::size_t(latent_.size()) * sizeof(float));
+  latent_.fill_zero();
   upload(backend, xhat(), Span<const float>(initial_xhat.data(), latent_size_));
   if (positions_) {
     std::vector<float> history(initial_xhat);
@@ -45,16 +44,12 @@ void LatentProjection::project(const Exec& exec, const DeformationMap& map, Samp
   const Index m = samples.count();
   rom::normal_equations(exec, r, samples.dg_dxhat(), Vec3Planes<const float>(samples.points().v.data(), m), {},
                         system_.span());
-  rom::advance_latent(exec, r, system_.span(), dt, latent_);
+  rom::advance_latent(exec, r, system_.span(), dt, latent_.span());
   if (!positions_) return;
-  const rom::PositionProjection projection{samples.X(),
-                                           samples.x(),
-                                           Vec3Planes<float>(samples.model_x().data(), m),
-                                           samples.dg_dxhat(),
-                                           system_.span(),
-                                           history_.span(),
-                                           latent_,
-                                           state_.span()};
+  const rom::PositionProjection projection{
+      samples.X(),        samples.x(),    Vec3Planes<float>(samples.model_x().data(), m),
+      samples.dg_dxhat(), system_.span(), history_.span(),
+      latent_.span(),     state_.span()};
   rom::project_positions(exec, map.view(), options_, has_previous_, projection);
   has_previous_ = true;
 }

@@ -17,13 +17,13 @@ namespace romp::engine {
 class LatentProjection {
  public:
   // `positions`: also x̂ by Gauss–Newton on the trial positions (Alg. 6), else x̂ += Δt v̂ (Alg. 7).
-  // `state`: 2 r + 1 floats on `backend` that hold [x̂ | v̂ | status], owned by the caller (ReducedSim keeps
-  // them where the substep's failure slots are read back, StepInputs::reserve_readback), set here.
   LatentProjection(Backend backend, const std::vector<float>& initial_xhat, bool positions,
-                   rom::GaussNewtonOptions options, Span<float> state);
+                   rom::GaussNewtonOptions options);
 
-  Span<float> xhat() { return latent_.subspan(0, latent_size_); }
-  Span<float> vhat() { return latent_.subspan(latent_size_, latent_size_); }
+  Span<float> xhat() { return latent_.span().subspan(0, latent_size_); }
+  Span<float> vhat() { return latent_.span().subspan(latent_size_, latent_size_); }
+  // [x̂ | v̂ | status] on the device; status rom::kLatentSolved or rom::kLatentSingular.
+  Span<const float> state() const { return latent_.span(); }
 
   // v̂ as the least-squares fit of velocities `v` (3 planes of n) through ∂g/∂x̂ at the n points (Eq. 28);
   // returns it, or an empty vector when the normal equations are singular.
@@ -33,8 +33,6 @@ class LatentProjection {
   // (Gauss–Newton from 2 x̂_n − x̂_{n−1}, from x̂_n + Δt v̂_{n+1} the first time, or x̂_n + Δt v̂_{n+1}).
   void project(const Exec& exec, const DeformationMap& map, SampleSet& samples, float dt);
 
-  // [x̂ | v̂ | status] (a download); status rom::kLatentSolved or rom::kLatentSingular.
-  std::vector<float> read(const Exec& exec) const { return download(exec.backend, latent_, exec.stream); }
   // The Gauss–Newton totals (a download); zero without the position projection.
   rom::GaussNewtonState gauss_newton_state(const Exec& exec) const;
 
@@ -43,7 +41,7 @@ class LatentProjection {
   bool positions_;
   rom::GaussNewtonOptions options_;
   bool has_previous_ = false;
-  Span<float> latent_;           // [x̂ | v̂ | status]
+  DeviceBuffer<float> latent_;   // [x̂ | v̂ | status]
   DeviceBuffer<double> system_;  // r² + r + 1: rom::normal_equations' layout
   // Position–velocity: [x̂_{n−1} | x̂_n] and the Gauss–Newton state (rom::project_positions).
   DeviceBuffer<float> history_;

@@ -12,7 +12,6 @@
 
 #include <cstdint>
 #include <string>
-#include <utility>
 
 #include "host/engine/deformation_map.h"
 #include "host/engine/quadrature_points.h"
@@ -20,6 +19,7 @@
 #include "kernels/core/device_buffer.h"
 #include "kernels/core/exec.h"
 #include "kernels/core/index_select.h"
+#include "kernels/mpm/failed_points.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/rom/eulerian_quadrature.h"
 #include "kernels/rom/eulerian_warm_start.h"
@@ -39,18 +39,14 @@ class ReducedQuadrature {
   // them on the host; empty otherwise.
   virtual Span<const std::int64_t> live_count() const { return {}; }
 
-  // The material points of the last build whose positions g gave (they must lie inside the domain; the
-  // substep moves them there when they do not): positions, none for Eulerian points, which lie in cells by
-  // construction, and their material point indices (empty: point i is material point i).
-  struct MaterialPositions {
-    Vec3Planes<float> x;
-    Span<const std::int32_t> index;
-  };
-  virtual MaterialPositions material_positions() = 0;
+  // The positions of the last build's material points, which g gave (they must lie inside the domain; the
+  // substep moves them there when they do not): none for Eulerian points, which lie in cells by construction.
+  virtual Vec3Planes<float> material_positions() = 0;
 
-  // How a failure report names point `slot` of the last build's P2G: its material point (−1 for none)
-  // and a description (may download the point).
-  virtual std::pair<std::int64_t, std::string> describe(const Exec& exec, std::int64_t slot) const = 0;
+  // The last build's points as P2G's failure slot and the domain check of material_positions() index them
+  // (mpm::note_failed_points keeps the one a slot names), and how a report names such a point.
+  virtual mpm::PointSource failure_source() const = 0;
+  virtual std::string describe(const mpm::FailedPoint& point) const = 0;
 
   // The points of the last build (Eulerian: every point inverted, inside the body or not; counted on the
   // device, so this is a download).
@@ -64,8 +60,9 @@ class LagrangianQuadrature final : public ReducedQuadrature {
 
   mpm::ParticleView build(const Exec& exec, const DeformationMap& map, const SampleSet& samples, Span<const float> xhat,
                           Span<const float> vhat) override;
-  MaterialPositions material_positions() override;
-  std::pair<std::int64_t, std::string> describe(const Exec& exec, std::int64_t slot) const override;
+  Vec3Planes<float> material_positions() override;
+  mpm::PointSource failure_source() const override;
+  std::string describe(const mpm::FailedPoint& point) const override;
   Index last_count(const Exec&) const override { return points_.count; }
 
   bool searches_neighbours() const { return search_; }
@@ -105,8 +102,9 @@ class EulerianQuadrature final : public ReducedQuadrature {
 
   mpm::ParticleView build(const Exec& exec, const DeformationMap& map, const SampleSet& samples, Span<const float> xhat,
                           Span<const float> vhat) override;
-  MaterialPositions material_positions() override { return {}; }
-  std::pair<std::int64_t, std::string> describe(const Exec& exec, std::int64_t slot) const override;
+  Vec3Planes<float> material_positions() override { return {}; }
+  mpm::PointSource failure_source() const override;
+  std::string describe(const mpm::FailedPoint& point) const override;
   Index last_count(const Exec& exec) const override;
   // The points used, of the inverted ones: selected on the device and counted there.
   Span<const std::int64_t> live_count() const override { return used_count_; }

@@ -13,14 +13,6 @@
 #include "kernels/core/error.h"
 
 namespace romp::engine {
-namespace {
-
-Vec3<float> planes_at(const std::vector<float>& planes, Index n, Index i) {
-  return Vec3<float>(planes[i], planes[n + i], planes[2 * n + i]);
-}
-
-}  // namespace
-
 EulerianQuadrature::EulerianQuadrature(const Exec& exec, const mpm::ParticleInit& reference, EulerianSettings settings)
     : settings_(std::move(settings)) {
   const Index n = reference.count();
@@ -172,13 +164,19 @@ Index EulerianQuadrature::last_count(const Exec& exec) const {
   return point_count_.empty() ? 0 : Index(download(exec.backend, point_count_, exec.stream)[0]);
 }
 
-std::pair<std::int64_t, std::string> EulerianQuadrature::describe(const Exec& exec, std::int64_t slot) const {
-  // An Eulerian point is no material point (index −1): it is named by where it is.
-  const Vec3<float> x = planes_at(used_.x.to_host(exec.stream), used_.count, slot),
-                    X = planes_at(used_.X.to_host(exec.stream), used_.count, slot);
-  return {-1, fmt::format("the Eulerian quadrature point at x = ({:.4g}, {:.4g}, {:.4g}) m, reference X = ({:.4g}, "
-                          "{:.4g}, {:.4g}) m",
-                          x[0], x[1], x[2], X[0], X[1], X[2])};
+mpm::PointSource EulerianQuadrature::failure_source() const {
+  return {Vec3Planes<const float>(used_.x.data(), used_.count),
+          Vec3Planes<const float>(used_.X.data(), used_.count),
+          {},
+          /*particles=*/false};
+}
+
+std::string EulerianQuadrature::describe(const mpm::FailedPoint& point) const {
+  // An Eulerian point is no material point: it is named by where it is.
+  return fmt::format(
+      "the Eulerian quadrature point at x = ({:.4g}, {:.4g}, {:.4g}) m, reference X = ({:.4g}, {:.4g}, "
+      "{:.4g}) m",
+      point.x[0], point.x[1], point.x[2], point.X[0], point.X[1], point.X[2]);
 }
 
 }  // namespace romp::engine

@@ -55,15 +55,18 @@ mpm::ParticleView LagrangianQuadrature::build(const Exec& exec, const Deformatio
   return points_.view();
 }
 
-ReducedQuadrature::MaterialPositions LagrangianQuadrature::material_positions() {
-  return {Vec3Planes<float>(points_.x.data(), points_.count),
+Vec3Planes<float> LagrangianQuadrature::material_positions() {
+  return Vec3Planes<float>(points_.x.data(), points_.count);
+}
+
+mpm::PointSource LagrangianQuadrature::failure_source() const {
+  return {Vec3Planes<const float>(points_.x.data(), points_.count),
+          Vec3Planes<const float>(points_.X.data(), points_.count),
           search_ ? index_.prefix(points_.count) : Span<const std::int32_t>()};
 }
 
-std::pair<std::int64_t, std::string> LagrangianQuadrature::describe(const Exec& exec, std::int64_t slot) const {
-  const std::int64_t point =
-      search_ ? download(exec.backend, index_.prefix(points_.count).subspan(slot, 1), exec.stream)[0] : slot;
-  return {point, fmt::format("material point {} (a quadrature point)", point)};
+std::string LagrangianQuadrature::describe(const mpm::FailedPoint& point) const {
+  return fmt::format("material point {} (a quadrature point)", point.particle);
 }
 
 }  // namespace romp::engine

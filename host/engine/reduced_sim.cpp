@@ -8,6 +8,7 @@
 
 #include "host/engine/full_order_sim.h"
 #include "host/engine/stage_clock.h"
+#include "kernels/core/memory.h"
 #include "kernels/mpm/step.h"
 #include "kernels/rom/reduced_dynamics.h"
 
@@ -102,7 +103,6 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
     : exec_(exec),
       config_(checked_config(std::move(config), reference, map, xhat, options)),
       inputs_(exec, config_),
-      readback_(inputs_.reserve_readback(2 * int(xhat.size()) + 1, /*slots=*/2)),
       grid_(exec.backend, config_.dx, /*keep_old_velocity=*/false),
       options_(options),
       map_(exec.backend, std::move(map)),
@@ -110,9 +110,11 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
       samples_(reference, Index(config_.dirichlet.size()), options.samples, options.boundary_samples, options.seed,
                map_.latent()),
       latent_(exec.backend, xhat, options.projection == RomProjection::PositionVelocity,
-              {options.gauss_newton_iterations, options.gauss_newton_tolerance}, readback_.values),
+              {options.gauss_newton_iterations, options.gauss_newton_tolerance}),
       xhat_(std::move(xhat)),
       stage_timeline_(exec) {
+  // A row per substep: its failure slots and records, its samples' largest speed and [x̂ | v̂ | status].
+  inputs_.reserve_readback(2 * map_.latent() + 1, kReadbackSlots, kMostSubstepsPerReadback);
   if (options_.quadrature == RomQuadrature::Lagrangian) {
     const bool search = wants_neighbour_search(options_, reference, config_.dx, Index(config_.dirichlet.size()));
     quadrature_ = &lagrangian_.emplace(exec_, reference_, map_.latent(), config_.dx, search);
@@ -146,10 +148,18 @@ float ReducedSim::stable_dt() const {
   return std::min(config_.max_dt, config_.cfl * config_.dx / (inputs_.max_wave_speed() + max_sample_speed_));
 }
 
-void ReducedSim::substep(float dt) {
+void ReducedSim::substeps(float dt, int count) {
   ROMP_CHECK(dt > 0.0f && std::isfinite(dt), fmt::format("substep dt must be finite and > 0, got {}", dt));
-  const int r = map_.latent();
-  const mpm::StepParams step = inputs_.at(time_, dt);
+  ROMP_CHECK(count >= 1 && count <= kMostSubstepsPerReadback,
+             fmt::format("substeps per read-back must be in [1, {}], got {}", kMostSubstepsPerReadback, count));
+  double time = time_;
+  for (int k = 0; k < count; ++k, time += dt) run_substep(time, dt);
+  accept_substeps(dt, count);
+}
+
+void ReducedSim::run_substep(double time, float dt) {
+  const mpm::StepParams step = inputs_.at(time, dt);
+  const StepInputs::Row row = inputs_.readback_row();
   StageClock timed(stage_timeline_);
 
   timed([&] { samples_.draw(exec_, reference_); });
@@ -159,9 +169,9 @@ void ReducedSim::substep(float dt) {
   timed([&] {
     samples_.decode(exec_, map_, latent_.xhat(), latent_.vhat());
     const Vec3Planes<float> sample_x(samples_.points().x.data(), m);
-    keep_inside_domain(sample_x, kSampleOutside);  // before the quadrature is placed around the samples
+    keep_inside_domain(sample_x, row.slots, kSampleOutside);  // before the quadrature is placed around the samples
     quadrature = quadrature_->build(exec_, map_, samples_, latent_.xhat(), latent_.vhat());
-    keep_inside_domain(quadrature_->material_positions().x, kQuadratureOutside);
+    keep_inside_domain(quadrature_->material_positions(), row.slots, kQuadratureOutside);
   });
   // Alg. 5: P2G from the quadrature points, the grid update, G2P at the samples, on a grid of the samples'
   // stencils alone: G2P reads no other node and the update goes node by node, so the quadrature's shares
@@ -179,27 +189,65 @@ void ReducedSim::substep(float dt) {
   timed([&] { mpm::update_grid(exec_, grid, step); });
   const mpm::ParticleView samples = samples_.points().view();
   timed([&] { mpm::grid_to_particle(exec_, samples, grid, step); });
-  // Alg. 6 / 7: v̂_{n+1} and x̂_{n+1}, solved where the system is.
-  timed([&] { latent_.project(exec_, map_, samples_, dt); });
-  // One round trip: the points outside the domain and the stages' failure slots (reported in this order,
-  // and before the projection's result: each later stage ran on what the earlier one found), the samples'
-  // largest speed (the next step's CFL) and the new [x̂ | v̂ | status].
-  const float sample_speed = inputs_.read_back();
-  throw_if_outside_domain();
-  inputs_.check_stages("reduced simulation: ", steps_, time_, [this](mpm::Stage stage, std::int64_t slot) {
-    // G2P runs over the samples and P2G over the quadrature points, reported as their material points.
-    if (stage != mpm::Stage::G2P) return quadrature_->describe(exec_, slot);
-    const std::int64_t point = download(exec_.backend, samples_.index().subspan(slot, 1), exec_.stream)[0];
-    return std::pair<std::int64_t, std::string>(point, fmt::format("sample material point {}", point));
+  // Alg. 6 / 7: v̂_{n+1} and x̂_{n+1}, solved where the system is, then what the read-back needs of this
+  // substep copied into its row before the next substep reuses the buffers: the new state and the points
+  // that the failure slots name.
+  timed([&] {
+    latent_.project(exec_, map_, samples_, dt);
+    const Span<const float> state = latent_.state();
+    memory::copy(row.values.data(), exec_.backend, state.data(), exec_.backend,
+                 std::size_t(state.size()) * sizeof(float), exec_.stream);
+    const mpm::PointSource sample_points{samples_.x(), samples_.X(), samples_.index()};
+    const mpm::PointSource quadrature_points = quadrature_->failure_source();
+    auto record = [&row](FailedPointRecord r) {
+      return row.slots.subspan(kFirstRecord + r * mpm::kFailedPointWords, mpm::kFailedPointWords);
+    };
+    const mpm::FailedPointNotes notes = {
+        mpm::FailedPointNote{step.first_failure.subspan(int(mpm::Stage::P2G), 1), quadrature_points, record(kP2GPoint)},
+        mpm::FailedPointNote{step.first_failure.subspan(int(mpm::Stage::G2P), 1), sample_points, record(kG2PPoint)},
+        mpm::FailedPointNote{row.slots.subspan(kSampleOutside, 1), sample_points, record(kSampleOutsidePoint)},
+        mpm::FailedPointNote{row.slots.subspan(kQuadratureOutside, 1), quadrature_points,
+                             record(kQuadratureOutsidePoint)}};
+    mpm::note_failed_points(exec_, notes, int(notes.size()));
   });
-  const std::vector<float>& latent = inputs_.readback();
-  if (latent[2 * r] != rom::kLatentSolved) throw singular_projection();
-  xhat_.assign(latent.begin(), latent.begin() + r);
-  vhat_.assign(latent.begin() + r, latent.begin() + 2 * r);
-  check_latent("the projection");
-  max_sample_speed_ = sample_speed;
-  time_ += dt;
-  ++steps_;
+}
+
+void ReducedSim::accept_substeps(float dt, int count) {
+  const int r = map_.latent();
+  // One round trip for all the substeps.
+  ROMP_CHECK(inputs_.read_back() == count, "a read-back per accept_substeps");
+  float speed = 0.0f;
+  for (int k = 0; k < count; ++k) {
+    // The points outside the domain and the stages' failure slots (reported in this order, and before the
+    // projection's result: each later stage ran on what the earlier one found), then the new state. A
+    // failure leaves xhat_, vhat_, time_ and steps_ as they were before the substep.
+    throw_if_outside_domain(k);
+    inputs_.check_stages(k, "reduced simulation: ", steps_, time_, [this, k](mpm::Stage stage, std::int64_t) {
+      // P2G runs over the quadrature points and G2P over the samples, reported as their material points (a
+      // reduced step has no plasticity: its materials are elastic).
+      if (stage == mpm::Stage::P2G) {
+        const mpm::FailedPoint point = failed_point(k, kP2GPoint);
+        return std::pair<std::int64_t, std::string>(point.particle, quadrature_->describe(point));
+      }
+      const std::int64_t point = failed_point(k, kG2PPoint).particle;
+      return std::pair<std::int64_t, std::string>(point, fmt::format("sample material point {}", point));
+    });
+    const Span<const float> latent = inputs_.readback_values(k);
+    if (latent[2 * r] != rom::kLatentSolved) throw singular_projection();
+    xhat_.assign(latent.begin(), latent.begin() + r);
+    vhat_.assign(latent.begin() + r, latent.begin() + 2 * r);
+    check_latent("the projection");
+    speed = std::max(speed, inputs_.largest_speed(k));
+    time_ += dt;
+    ++steps_;
+  }
+  // The next substeps' CFL step holds for the fastest the samples went in these.
+  max_sample_speed_ = speed;
+}
+
+mpm::FailedPoint ReducedSim::failed_point(int row, FailedPointRecord record) const {
+  return mpm::read_failed_point(
+      inputs_.readback_slots(row).subspan(kFirstRecord + record * mpm::kFailedPointWords, mpm::kFailedPointWords));
 }
 
 void ReducedSim::check_latent(const char* stage) const {
@@ -212,27 +260,22 @@ void ReducedSim::check_latent(const char* stage) const {
                          steps_, mpm::Stage::G2P, -1);
 }
 
-void ReducedSim::keep_inside_domain(Vec3Planes<float> x, OutsideSlot slot) {
-  rom::keep_points_inside(exec_, x, config_.domain(), config_.dx, readback_.slots.subspan(slot, 1));
+void ReducedSim::keep_inside_domain(Vec3Planes<float> x, Span<std::int64_t> row_slots, ReadbackSlot slot) {
+  rom::keep_points_inside(exec_, x, config_.domain(), config_.dx, row_slots.subspan(slot, 1));
 }
 
-void ReducedSim::throw_if_outside_domain() {
-  const std::vector<std::int64_t>& slots = inputs_.readback_slots();
+void ReducedSim::throw_if_outside_domain(int row) {
+  const Span<const std::int64_t> slots = inputs_.readback_slots(row);
   const bool sample = slots[kSampleOutside] != rom::kNoPointOutside;
   if (!sample && slots[kQuadratureOutside] == rom::kNoPointOutside) return;
-  const std::int64_t slot = slots[sample ? kSampleOutside : kQuadratureOutside];
-  const Span<const std::int32_t> points = sample ? samples_.index() : quadrature_->material_positions().index;
-  const std::int64_t point = points.empty() ? slot : download(exec_.backend, points.subspan(slot, 1), exec_.stream)[0];
+  const mpm::FailedPoint failed = failed_point(row, sample ? kSampleOutsidePoint : kQuadratureOutsidePoint);
+  const std::int64_t point = failed.particle;
   // g at the point's reference position and the substep's x̂ (xhat_ until the substep succeeds).
-  const Index n = reference_.count;
-  std::vector<float> X(3);
-  for (int a = 0; a < 3; ++a)
-    X[std::size_t(a)] = download(exec_.backend, reference_.X.span().subspan(a * n + point, 1), exec_.stream)[0];
-  const DeviceBuffer<float> X_device = DeviceBuffer<float>::from_host(exec_.backend, X, exec_.stream);
+  const std::vector<float> X_host = {failed.X[0], failed.X[1], failed.X[2]};
+  const DeviceBuffer<float> X = DeviceBuffer<float>::from_host(exec_.backend, X_host, exec_.stream);
   const DeviceBuffer<float> xhat = DeviceBuffer<float>::from_host(exec_.backend, xhat_, exec_.stream);
   DeviceBuffer<float> x(exec_.backend, 3);
-  map_.evaluate(exec_, xhat.span(), Vec3Planes<const float>(X_device.data(), 1),
-                {Vec3Planes<float>(x.data(), 1), {}, {}});
+  map_.evaluate(exec_, xhat.span(), Vec3Planes<const float>(X.data(), 1), {Vec3Planes<float>(x.data(), 1), {}, {}});
   const std::vector<float> position = x.to_host(exec_.stream);
   const mpm::Domain domain = config_.domain();
   Vec3<float> low, high;
@@ -265,8 +308,21 @@ rom::QuadratureTally ReducedSim::quadrature_tally() const {
 }
 
 bool ReducedSim::advance_to(double t, const std::function<bool()>& stop) {
-  return advance_clock(
-      time_, t, [this] { return double(stable_dt()); }, [this](float dt) { substep(dt); }, stop);
+  // Substeps within this fraction over the stable step are allowed, as advance_clock merges a sliver.
+  constexpr double kMergeFraction = 1e-3;
+  while (time_ < t) {
+    if (stop && stop()) return false;
+    const double dt = stable_dt(), remaining = t - time_;
+    const double needed = std::ceil(remaining / (dt * (1.0 + kMergeFraction)));
+    if (needed > kMostSubstepsPerReadback) {
+      substeps(float(dt), kMostSubstepsPerReadback);
+      continue;
+    }
+    substeps(float(remaining / needed), int(needed));
+    // The clock takes t itself, not the sum of the float substeps.
+    time_ = t;
+  }
+  return true;
 }
 
 ReducedSim::DecodedState ReducedSim::decode(const std::vector<float>& X_host) {

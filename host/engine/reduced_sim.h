@@ -28,6 +28,7 @@
 #include "kernels/core/event_timeline.h"
 #include "kernels/core/exec.h"
 #include "kernels/math/vec3.h"
+#include "kernels/mpm/failed_points.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
 #include "kernels/rom/deformation_map_eval.h"
@@ -87,10 +88,20 @@ class ReducedSim {
   ReducedSim(const ReducedSim&) = delete;
   ReducedSim& operator=(const ReducedSim&) = delete;
 
+  // The CFL step from the wave speed and the samples' largest speed in the last read-back's substeps.
   float stable_dt() const;
-  void substep(float dt);
-  // Substeps until time() reaches t (the last substep is shortened to land on t), or until `stop`, asked
-  // before each substep, answers true; returns whether time() reached t.
+  // `count` substeps of dt, at most kMostSubstepsPerReadback, with one read-back after the last (a blocking
+  // round trip on CUDA): until then nothing waits on the device, and the substeps could be replayed as a
+  // CUDA graph. xhat(), vhat(), time(), steps() and stable_dt() change at the read-back. A failure still
+  // stops at the substep, stage and point that failed, with the message a read-back after each substep would
+  // give, and the state left as after the substep before it.
+  static constexpr int kMostSubstepsPerReadback = 128;
+  void substeps(float dt, int count);
+  void substep(float dt) { substeps(dt, 1); }
+  // Substeps of equal length, none over the stable step, until time() reaches t, read back once for each
+  // kMostSubstepsPerReadback of them (an output frame's worth, or a frame's whole when shorter): the step
+  // follows the speeds of the last read-back's substeps. Stops early when `stop`, asked before each
+  // read-back's substeps, answers true; returns whether time() reached t.
   bool advance_to(double t, const std::function<bool()>& stop = {});
 
   // The state at reference points X (3 planes of n): x = g(X; x̂), F = ∇_X g, v = (∂g/∂x̂) v̂. Any
@@ -143,15 +154,27 @@ class ReducedSim {
  private:
   // Throws NonFiniteError when x̂ or v̂ is not finite after `stage`.
   void check_latent(const char* stage) const;
-  // The read-back slots of the first point outside the domain: of the samples, of the quadrature's material points.
-  enum OutsideSlot { kSampleOutside = 0, kQuadratureOutside = 1 };
-  // Moves the points at x back inside the grid's interior, noting the first that was outside in readback_'s
+  // A read-back row's own slots: the first point outside the domain, of the samples and of the quadrature's
+  // material points, then the records (mpm::FailedPoint) of the points that the row's slots name: P2G's
+  // (quadrature points), G2P's (samples) and the two outside.
+  enum ReadbackSlot { kSampleOutside = 0, kQuadratureOutside = 1, kFirstRecord = 2 };
+  enum FailedPointRecord { kP2GPoint = 0, kG2PPoint = 1, kSampleOutsidePoint = 2, kQuadratureOutsidePoint = 3 };
+  static constexpr int kReadbackSlots = kFirstRecord + 4 * mpm::kFailedPointWords;
+
+  // The stages of one substep from `time`, with nothing read back: its row of the read-back gets its failure
+  // slots, the records of the points they name, and [x̂ | v̂ | status] after it.
+  void run_substep(double time, float dt);
+  // Moves the points at x back inside the grid's interior, noting the first that was outside in the row's
   // slot `slot` (rom::keep_points_inside): the substep goes on without waiting, on positions the grid holds.
-  void keep_inside_domain(Vec3Planes<float> x, OutsideSlot slot);
-  // After the read-back: throws NonFiniteError naming the first material point that was outside (x̂ has
-  // gone where the map no longer describes the body), samples first, with its position decoded afresh at
-  // the substep's x̂ (the step moved it inside).
-  void throw_if_outside_domain();
+  void keep_inside_domain(Vec3Planes<float> x, Span<std::int64_t> row_slots, ReadbackSlot slot);
+  // After a read-back, the substeps' rows in order: each checked as if read back alone, its result kept.
+  void accept_substeps(float dt, int count);
+  // The point a read-back row's record holds.
+  mpm::FailedPoint failed_point(int row, FailedPointRecord record) const;
+  // Throws NonFiniteError naming the first material point that was outside the domain in read-back row
+  // `row` (x̂ has gone where the map no longer describes the body), samples first, with its position decoded
+  // afresh at the substep's x̂ (the step moved it inside).
+  void throw_if_outside_domain(int row);
   // The error of a projection whose normal equations have no solution.
   Error singular_projection() const;
   rom::QuadratureTally quadrature_tally() const;
@@ -159,9 +182,6 @@ class ReducedSim {
   Exec exec_;
   FullOrderConfig config_;
   StepInputs inputs_;
-  // Read back with the failure slots: [x̂ | v̂ | status] (latent_'s) and the first sample and quadrature
-  // material point outside the domain (keep_inside_domain's).
-  StepInputs::Readback readback_;
   mpm::SparseGrid grid_;
   ReducedOptions options_;
   DeformationMap map_;
@@ -173,8 +193,8 @@ class ReducedSim {
   ReducedQuadrature* quadrature_ = nullptr;
   LatentProjection latent_;
 
-  std::vector<float> xhat_, vhat_;  // the device's [x̂ | v̂] after the last substep
-  float max_sample_speed_ = 0.0f;
+  std::vector<float> xhat_, vhat_;  // [x̂ | v̂] after the last substep read back
+  float max_sample_speed_ = 0.0f;   // the samples' largest in the substeps of the last read-back
   double time_ = 0.0;
   std::int64_t steps_ = 0;
   std::vector<std::string> stages_;       // the stage table's names, in pipeline order

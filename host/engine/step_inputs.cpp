@@ -61,7 +61,7 @@ StepInputs::StepInputs(const Exec& exec, const FullOrderConfig& config) : exec_(
   dirichlet_ = DeviceBuffer<mpm::RigidMotion>(exec.backend, Index(config.dirichlet.size()));
   loads_ = DeviceBuffer<mpm::RegionLoad>(exec.backend, Index(config.loads.size()));
   tractions_ = DeviceBuffer<Vec3<float>>(exec.backend, Index(config.tractions.size()));
-  first_failure_ = DeviceBuffer<std::int64_t>(exec.backend, mpm::kStageCount + 1);
+  rows_ = DeviceBuffer<std::int64_t>(exec.backend, row_words());
 }
 
 void StepInputs::upload_materials(double time) {
@@ -101,8 +101,11 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   mpm::inputs_at(exec_,
                  {collider_schedule_.span(), motion_schedule_.span(), load_schedule_.span(), traction_schedule_.span()},
                  time, dt, active, tables);
-  fill(exec_, first_failure_.span().subspan(0, speed_slot()), mpm::kNoFailure);
-  memory::fill_zero(first_failure_.data() + speed_slot(), exec_.backend, sizeof(float), exec_.stream);
+  ROMP_CHECK(pending_rows_ < most_rows_,
+             fmt::format("{} substeps without a read-back: at most {} were reserved", pending_rows_ + 1, most_rows_));
+  const Span<std::int64_t> row = rows_.span().subspan(Index(pending_rows_++) * row_words(), row_words());
+  fill(exec_, row.subspan(0, speed_word()), mpm::kNoFailure);
+  memory::fill_zero(row.data() + speed_word(), exec_.backend, sizeof(float), exec_.stream);
 
   mpm::StepParams step;
   step.dt = dt;
@@ -116,8 +119,8 @@ mpm::StepParams StepInputs::at(double time, float dt) {
   step.dirichlet = tables.dirichlet;
   step.loads = tables.loads;
   step.tractions = tables.tractions;
-  step.first_failure = first_failure_.span().subspan(0, mpm::kStageCount);
-  step.largest_speed = Span<float>(reinterpret_cast<float*>(first_failure_.data() + speed_slot()), 1);
+  step.first_failure = row.subspan(0, mpm::kStageCount);
+  step.largest_speed = Span<float>(reinterpret_cast<float*>(row.data() + speed_word()), 1);
   return step;
 }
 
@@ -131,31 +134,54 @@ const char* stage_name(mpm::Stage stage) {
   return "unknown";
 }
 
-float StepInputs::read_back() {
-  const std::vector<std::int64_t> slots = first_failure_.to_host(exec_.stream);
-  const auto readback_start = slots.begin() + mpm::kStageCount;
-  stage_failures_.assign(slots.begin(), readback_start);
-  std::copy(readback_start, readback_start + Index(readback_slots_.size()), readback_slots_.begin());
+void StepInputs::reserve_readback(int floats, int slots, int rows) {
+  ROMP_CHECK(floats >= 1 && slots >= 0 && rows >= 1 && floats_ == 0 && pending_rows_ == 0,
+             "reserve_readback: once, before the first substep, for at least one value and one row");
+  floats_ = floats;
+  slots_ = slots;
+  most_rows_ = rows;
+  rows_ = DeviceBuffer<std::int64_t>(exec_.backend, Index(rows) * row_words());
+}
+
+StepInputs::Row StepInputs::readback_row() {
+  ROMP_CHECK(pending_rows_ > 0, "readback_row: after `at`");
+  std::int64_t* row = rows_.data() + Index(pending_rows_ - 1) * row_words();
+  return {Span<std::int64_t>(row + mpm::kStageCount, slots_),
+          Span<float>(reinterpret_cast<float*>(row + speed_word() + 1), floats_)};
+}
+
+int StepInputs::read_back() {
+  read_ = download(exec_.backend, rows_.span().subspan(0, Index(pending_rows_) * row_words()), exec_.stream);
+  const int rows = pending_rows_;
+  pending_rows_ = 0;
+  return rows;
+}
+
+const std::int64_t* StepInputs::read_row(int row) const {
+  ROMP_CHECK(row >= 0 && Index(row + 1) * row_words() <= Index(read_.size()),
+             fmt::format("read-back row {} was not read", row));
+  return read_.data() + Index(row) * row_words();
+}
+
+float StepInputs::largest_speed(int row) const {
   float speed;
-  std::memcpy(&speed, &slots[std::size_t(speed_slot())], sizeof speed);
-  if (!readback_.empty())
-    std::memcpy(readback_.data(), &slots[std::size_t(speed_slot()) + 1], readback_.size() * sizeof(float));
+  std::memcpy(&speed, read_row(row) + speed_word(), sizeof speed);
   return speed;
 }
 
-StepInputs::Readback StepInputs::reserve_readback(int floats, int slots) {
-  ROMP_CHECK(floats >= 1 && slots >= 0 && readback_.empty(), "reserve_readback: once, for at least one value");
-  readback_slots_.assign(std::size_t(slots), mpm::kNoFailure);
-  readback_.assign(std::size_t(floats), 0.0f);
-  first_failure_ = DeviceBuffer<std::int64_t>(exec_.backend, speed_slot() + 1 + (floats + 1) / 2);
-  return {first_failure_.span().subspan(mpm::kStageCount, slots),
-          Span<float>(reinterpret_cast<float*>(first_failure_.data() + speed_slot() + 1), floats)};
+Span<const std::int64_t> StepInputs::readback_slots(int row) const {
+  return Span<const std::int64_t>(read_row(row) + mpm::kStageCount, slots_);
 }
 
-void StepInputs::check_stages(const std::string& who, std::int64_t step, double time,
+Span<const float> StepInputs::readback_values(int row) const {
+  return Span<const float>(reinterpret_cast<const float*>(read_row(row) + speed_word() + 1), floats_);
+}
+
+void StepInputs::check_stages(int row, const std::string& who, std::int64_t step, double time,
                               const FailureDescriber& describe) const {
-  for (std::size_t s = 0; s < stage_failures_.size(); ++s) {
-    const std::int64_t failure = stage_failures_[s];
+  const std::int64_t* failures = read_row(row);
+  for (int s = 0; s < mpm::kStageCount; ++s) {
+    const std::int64_t failure = failures[s];
     if (failure == mpm::kNoFailure) continue;
     const auto stage = mpm::Stage(s);
     const auto [index, what] = stage == mpm::Stage::GridUpdate

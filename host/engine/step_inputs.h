@@ -48,29 +48,35 @@ class StepInputs {
   StepInputs(const Exec& exec, const FullOrderConfig& config);
 
   // The parameters of a substep [time, time + dt]: colliders moved to `time`, the Dirichlet motions
-  // and the loads active then (computed on the device, mpm::inputs_at: nothing uploaded), failure slots
-  // reset to "no failure" and the largest speed to 0.
+  // and the loads active then (computed on the device, mpm::inputs_at: nothing uploaded), and the next
+  // read-back row, reset: failure slots "no failure", the largest speed 0.
   mpm::StepParams at(double time, float dt);
-  // After a substep, one download: the stages' failure slots, the largest speed the substep's moved
-  // particles stored (StepParams::largest_speed, for the next CFL step), and what reserve_readback added.
-  // Returns the speed.
-  float read_back();
-  // Throws NonFiniteError for the first stage whose slot, as read_back read it, recorded a non-finite
-  // value: "<who>non-finite value at step S (t = T s), stage X: <what>". Grid-update indices are reported
-  // as grid nodes; every other stage's index goes through `describe`.
-  void check_stages(const std::string& who, std::int64_t step, double time, const FailureDescriber& describe) const;
-  // Room that read_back reads with the failure slots, so that a substep's checks, its next CFL speed and
-  // its results come back in one download: `slots` more failure slots (reset to mpm::kNoFailure by `at`,
-  // as the stages' are; ReducedSim's points outside the domain) and `floats` values (ReducedSim's
-  // [x̂ | v̂ | status], FullOrderSim's "a particle left the grid"). Call once, before the first substep.
-  struct Readback {
+
+  // The read-back: a row per substep since the last read_back, each holding the stages' failure slots, the
+  // largest speed the substep's moved particles stored (StepParams::largest_speed, for the next CFL step)
+  // and room its owner reserved, so that many substeps' checks, speeds and results come back in one
+  // download. `slots` more failure slots a row (reset to mpm::kNoFailure by `at`, as the stages' are:
+  // ReducedSim's points outside the domain and its failed points' records) and `floats` values (ReducedSim's
+  // [x̂ | v̂ | status], FullOrderSim's "a particle left the grid"); `rows`: the most substeps between two
+  // read-backs. Call once, before the first substep.
+  void reserve_readback(int floats, int slots, int rows = 1);
+  // The reserved room of the row the last `at` handed out, on the device.
+  struct Row {
     Span<std::int64_t> slots;
     Span<float> values;
   };
-  Readback reserve_readback(int floats, int slots = 0);
-  // Those slots and values as the last read_back read them.
-  const std::vector<std::int64_t>& readback_slots() const { return readback_slots_; }
-  const std::vector<float>& readback() const { return readback_; }
+  Row readback_row();
+  // One download: the rows of the substeps since the last read_back. Returns how many.
+  int read_back();
+  // Row `row` (0: the first substep since the read-back before) as read_back read it.
+  float largest_speed(int row) const;
+  Span<const std::int64_t> readback_slots(int row) const;
+  Span<const float> readback_values(int row) const;
+  // Throws NonFiniteError for the first stage whose slot in row `row` recorded a non-finite value:
+  // "<who>non-finite value at step S (t = T s), stage X: <what>". Grid-update indices are reported as grid
+  // nodes; every other stage's index goes through `describe`.
+  void check_stages(int row, const std::string& who, std::int64_t step, double time,
+                    const FailureDescriber& describe) const;
 
   bool plastic() const { return plastic_; }
   // The largest dilatational wave speed sqrt((λ + 2μ) / ρ) over the materials (m/s), for the CFL rule.
@@ -95,14 +101,17 @@ class StepInputs {
   DeviceBuffer<mpm::RigidMotion> dirichlet_;
   DeviceBuffer<mpm::RegionLoad> loads_;
   DeviceBuffer<Vec3<float>> tractions_;
-  // kStageCount failure slots, the readback's slots, one slot whose first 4 bytes hold a float speed, then
-  // the readback's floats (two per slot).
-  DeviceBuffer<std::int64_t> first_failure_;
-  std::vector<std::int64_t> stage_failures_, readback_slots_;
-  std::vector<float> readback_;
+  // The read-back rows, each row_words() long: kStageCount failure slots, the reserved slots, one word whose
+  // first 4 bytes hold a float speed, then the reserved floats (two per word).
+  DeviceBuffer<std::int64_t> rows_;
+  int slots_ = 0, floats_ = 0, most_rows_ = 1;
+  int pending_rows_ = 0;            // handed out by `at` since the last read_back
+  std::vector<std::int64_t> read_;  // the rows the last read_back read
 
-  // The speed's slot: after the failure slots and the readback's slots.
-  Index speed_slot() const { return mpm::kStageCount + Index(readback_slots_.size()); }
+  Index speed_word() const { return mpm::kStageCount + slots_; }
+  Index row_words() const { return speed_word() + 1 + (floats_ + 1) / 2; }
+  // Row `row` of read_, checked to have been read.
+  const std::int64_t* read_row(int row) const;
 };
 
 // Substeps until `time` reaches t: `substep(dt)` advances `time` by dt, `stable_dt()` says how far it

@@ -75,7 +75,10 @@ void copy(void* destination, Backend destination_backend, const void* source, Ba
   }
 #if defined(ROMP_WITH_CUDA)
   ROMP_CUDA_CHECK(cudaMemcpyAsync(destination, source, bytes, copy_kind(destination_backend, source_backend), stream));
-  ROMP_CUDA_CHECK(cudaStreamSynchronize(stream));
+  // Between two device buffers the stream orders the copy for every later use: no wait (and none to break a
+  // CUDA graph's capture).
+  if (destination_backend == Backend::Cpu || source_backend == Backend::Cpu)
+    ROMP_CUDA_CHECK(cudaStreamSynchronize(stream));
 #else
   (void)stream;
   no_cuda_backend();

@@ -15,8 +15,9 @@ inline constexpr std::size_t kHostAlignment = 64;
 void* allocate(Backend backend, std::size_t bytes);
 void release(Backend backend, void* pointer) noexcept;
 
-// Copies `bytes` between any two backends. The copy is ordered after earlier work on `stream`
-// and complete when the call returns, so host memory may be reused at once.
+// Copies `bytes` between any two backends. The copy is ordered after earlier work on `stream`; one
+// that reads or writes host memory is complete when the call returns, so that memory may be reused at
+// once, and one between two device buffers returns at once (later work on `stream` sees it done).
 void copy(void* destination, Backend destination_backend, const void* source, Backend source_backend, std::size_t bytes,
           Stream stream = nullptr);
 

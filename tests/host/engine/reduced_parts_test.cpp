@@ -84,8 +84,7 @@ TEST(LatentProjection, FitsAndProjectsVelocitiesAndAdvancesThePosition) {
   const Index n = init.count();
   const ReferenceBody reference(test::exec().backend, init);
   const DeformationMap map(test::exec().backend, test::translation_map());
-  DeviceBuffer<float> storage(test::exec().backend, 7);  // [x̂ | v̂ | status] of r = 3
-  LatentProjection latent(test::exec().backend, {0.0f, 0.0f, 0.0f}, /*positions=*/false, {}, storage.span());
+  LatentProjection latent(test::exec().backend, {0.0f, 0.0f, 0.0f}, /*positions=*/false, {});
   SampleSet samples(init, 1, 0, 5, 3, 3);
   samples.draw(test::exec(), reference);
   samples.decode(test::exec(), map, latent.xhat(), latent.vhat());
@@ -103,7 +102,7 @@ TEST(LatentProjection, FitsAndProjectsVelocitiesAndAdvancesThePosition) {
   // The projection of the samples' velocities (their mean, here) and x̂ += Δt v̂.
   samples.decode(test::exec(), map, latent.xhat(), latent.vhat());
   latent.project(test::exec(), map, samples, 0.1f);
-  const std::vector<float> state = latent.read(test::exec());
+  const std::vector<float> state = download(test::exec().backend, latent.state());  // [x̂ | v̂ | status] of r = 3
   EXPECT_EQ(state[6], rom::kLatentSolved);
   EXPECT_NEAR(state[0], 0.05f, 1e-6f);
   EXPECT_NEAR(state[4], -1.0f, 1e-6f);
@@ -122,15 +121,15 @@ TEST(LagrangianQuadrature, EveryPointOrTheSamplesNeighboursAtTheirDecodedPlaces)
   LagrangianQuadrature every(test::exec(), reference, 3, 0.01f, /*search=*/false);
   const mpm::ParticleView all = every.build(test::exec(), map, samples, xhat, vhat);
   EXPECT_EQ(all.count, n);
-  EXPECT_EQ(every.material_positions().index.size(), 0);
-  const Vec3Planes<float> positions = every.material_positions().x;
+  EXPECT_EQ(every.failure_source().particle.size(), 0);  // point i is material point i
+  const Vec3Planes<float> positions = every.material_positions();
   ASSERT_EQ(positions.count(), n);
   const std::vector<float> x = download(test::exec().backend, Span<const float>(positions.data(), 3 * n));
   EXPECT_NEAR(x[0], init.x[0] + 0.01f, 1e-6f);
   // Two samples in a 4³ body at dx = 1 cm: their stencils' reach covers the whole body.
   LagrangianQuadrature near(test::exec(), reference, 3, 0.01f, /*search=*/true);
   EXPECT_EQ(near.build(test::exec(), map, samples, xhat, vhat).count, n);
-  EXPECT_EQ(near.material_positions().index.size(), n);
+  EXPECT_EQ(near.failure_source().particle.size(), n);
   EXPECT_EQ(near.points_so_far(), n);
 }
 

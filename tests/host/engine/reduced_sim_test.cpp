@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "host/engine/reduced_sim.h"
@@ -166,67 +167,115 @@ TEST(ReducedSim, EulerianQuadratureInvertsOnlyTheSamplesNeighbours) {
   expect_same_xhat(neighbours.xhat, every.xhat);
 }
 
-// What a substep costs the host once its buffers have grown (memory::traffic counts it on either
-// backend). On a GPU every allocation synchronises the device and every transfer is a blocking round
-// trip: at the real-time step of the paper's tower (0.255 ms) a few dozen of either would use it all
-// (bench/results/gpu-notes.md).
-struct SubstepTraffic {
-  int allocating_substeps = 0;
+// What a frame of substeps read back once costs the host once its buffers have grown (memory::traffic
+// counts it on either backend). On a GPU every allocation synchronises the device and every transfer is a
+// blocking round trip: at the real-time step of the paper's tower (0.255 ms) a few dozen of either would
+// use it all (bench/results/gpu-notes.md), and one would keep the substeps from running as a CUDA graph.
+constexpr int kFrameSubsteps = 6;
+struct FrameTraffic {
+  int allocating_frames = 0;
   std::int64_t largest_uploads = 0, largest_downloads = 0;
 };
-SubstepTraffic substep_traffic(engine::RomQuadrature quadrature, engine::NeighbourSearch search,
-                               engine::RomProjection projection = engine::RomProjection::Velocity) {
+FrameTraffic frame_traffic(engine::RomQuadrature quadrature, engine::NeighbourSearch search,
+                           engine::RomProjection projection = engine::RomProjection::Velocity) {
   engine::ReducedSim sim = deformed_body(quadrature, search, projection);
-  for (int s = 0; s < 3; ++s) sim.substep(kDt);
-  SubstepTraffic traffic;
-  for (int s = 0; s < 12; ++s) {
+  sim.substeps(kDt, 3);
+  FrameTraffic traffic;
+  for (int f = 0; f < 3; ++f) {
     const memory::Traffic before = memory::traffic();
-    sim.substep(kDt);
+    sim.substeps(kDt, kFrameSubsteps);
     const memory::Traffic after = memory::traffic();
-    traffic.allocating_substeps += after.allocations > before.allocations;
+    traffic.allocating_frames += after.allocations > before.allocations;
     traffic.largest_uploads = std::max(traffic.largest_uploads, after.uploads - before.uploads);
     traffic.largest_downloads = std::max(traffic.largest_downloads, after.downloads - before.downloads);
   }
+  EXPECT_EQ(sim.steps(), 3 + 3 * kFrameSubsteps);
   return traffic;
 }
 
-TEST(ReducedSim, SubstepsReuseTheirBuffersAndMakeFewRoundTrips) {
-  // Each compaction (IndexSelector) reads its count back, on the CPU as on CUDA.
-  constexpr std::int64_t per_compaction = 1;
-
-  const SubstepTraffic every = substep_traffic(engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Never);
-  EXPECT_EQ(every.allocating_substeps, 0);
+TEST(ReducedSim, FramesReuseTheirBuffersAndReadBackOnce) {
   // Up: nothing (the samples of many substeps go up at once, every point's once; x̂ and v̂ stay on the
-  // device). Down: the failure slots with the domain checks' (samples, quadrature), the samples' largest
-  // speed and the new [x̂ | v̂ | status] (one read: the projection is solved on the device into the slots'
-  // buffer). The grid of the few samples' stencils keeps its block count on the device.
-  constexpr std::int64_t base = 1;
+  // device). Down, once a frame: each substep's row of failure slots with the domain checks' (samples,
+  // quadrature) and the records of the points they name, the samples' largest speed and the new
+  // [x̂ | v̂ | status] (the projection is solved on the device). The grid of the few samples' stencils keeps
+  // its block count on the device.
+  constexpr std::int64_t per_frame = 1;
+  const FrameTraffic every = frame_traffic(engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Never);
+  EXPECT_EQ(every.allocating_frames, 0);
   EXPECT_EQ(every.largest_uploads, 0);
-  EXPECT_EQ(every.largest_downloads, base);
+  EXPECT_EQ(every.largest_downloads, per_frame);
 
   // The neighbours' and the Eulerian points' counts vary with the samples: their buffers grow with
-  // headroom now and then (not in these 12 substeps), where they were allocated every substep.
-  const SubstepTraffic neighbours = substep_traffic(engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Always);
-  EXPECT_LE(neighbours.allocating_substeps, 2);
-  // The nodes near the samples are found, and the neighbours compacted, on the device: one count more.
+  // headroom now and then (not in these frames), where they were allocated every substep.
+  const FrameTraffic neighbours = frame_traffic(engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Always);
+  EXPECT_LE(neighbours.allocating_frames, 2);
+  // The nodes near the samples are found, and the neighbours compacted, on the device; the compaction
+  // (IndexSelector) reads its count back, on the CPU as on CUDA: one download a substep more.
   EXPECT_EQ(neighbours.largest_uploads, 0);
-  EXPECT_EQ(neighbours.largest_downloads, base + per_compaction);
+  EXPECT_EQ(neighbours.largest_downloads, per_frame + kFrameSubsteps);
 
-  const SubstepTraffic eulerian = substep_traffic(engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Auto);
-  EXPECT_LE(eulerian.allocating_substeps, 2);
+  const FrameTraffic eulerian = frame_traffic(engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Auto);
+  EXPECT_LE(eulerian.allocating_frames, 2);
   // As every point's (its domain check covers the samples alone): the cells around the samples, the points
   // kept in them and the points used are counted on the device, and the launches that read those counts run
   // over bounds (for few samples, every cell they could find).
   EXPECT_EQ(eulerian.largest_uploads, 0);
-  EXPECT_EQ(eulerian.largest_downloads, base);
+  EXPECT_EQ(eulerian.largest_downloads, per_frame);
 
   // Gauss–Newton runs where the samples are (rom::project_positions): the position–velocity projection
   // costs the host what the velocity projection does, whatever its iterations.
-  const SubstepTraffic position = substep_traffic(engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Auto,
-                                                  engine::RomProjection::PositionVelocity);
-  EXPECT_LE(position.allocating_substeps, 2);
+  const FrameTraffic position = frame_traffic(engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Auto,
+                                              engine::RomProjection::PositionVelocity);
+  EXPECT_LE(position.allocating_frames, 2);
   EXPECT_EQ(position.largest_uploads, 0);
-  EXPECT_EQ(position.largest_downloads, base);
+  EXPECT_EQ(position.largest_downloads, per_frame);
+}
+
+// A frame read back once runs the substeps one read-back per substep would: the same state after it.
+TEST(ReducedSim, AFrameReadBackOnceMatchesSubstepsReadBackEach) {
+  for (const engine::RomQuadrature quadrature : {engine::RomQuadrature::Lagrangian, engine::RomQuadrature::Eulerian}) {
+    engine::ReducedSim frame =
+        deformed_body(quadrature, engine::NeighbourSearch::Auto, engine::RomProjection::Velocity);
+    engine::ReducedSim each = deformed_body(quadrature, engine::NeighbourSearch::Auto, engine::RomProjection::Velocity);
+    frame.substeps(kDt, 8);
+    for (int s = 0; s < 8; ++s) each.substep(kDt);
+    EXPECT_EQ(frame.steps(), 8);
+    EXPECT_DOUBLE_EQ(frame.time(), each.time());
+    // To rounding: the P2G sums' order varies with the threads (atomics).
+    expect_same_xhat(frame.xhat(), each.xhat());
+    EXPECT_LT(largest_difference(frame.vhat(), each.vhat()), 1e-5f);
+    // The frame's step follows its largest speed, the last substep's here (the body falls faster).
+    EXPECT_NEAR(frame.stable_dt(), each.stable_dt(), 1e-6f * each.stable_dt());
+  }
+  engine::ReducedSim sim =
+      deformed_body(engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Never, engine::RomProjection::Velocity);
+  EXPECT_THROW(sim.substeps(kDt, 0), Error);
+  EXPECT_THROW(sim.substeps(kDt, engine::ReducedSim::kMostSubstepsPerReadback + 1), Error);
+}
+
+// advance_to lands on the frame's time in substeps of equal length under the stable step, read back once
+// for the frame.
+TEST(ReducedSim, AdvanceToReadsBackOncePerFrameInEqualSubsteps) {
+  engine::ReducedSim sim =
+      deformed_body(engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Never, engine::RomProjection::Velocity);
+  const double dt = sim.stable_dt(), end = 10.5 * dt;
+  const memory::Traffic before = memory::traffic();
+  ASSERT_TRUE(sim.advance_to(end));
+  EXPECT_EQ(memory::traffic().downloads - before.downloads, 1);
+  EXPECT_EQ(sim.steps(), 11);
+  EXPECT_EQ(sim.time(), end);
+  // A frame of more substeps than one read-back holds takes several.
+  const std::int64_t steps = sim.steps();
+  const double frame = (engine::ReducedSim::kMostSubstepsPerReadback + 2) * double(sim.stable_dt());
+  const memory::Traffic later = memory::traffic();
+  ASSERT_TRUE(sim.advance_to(end + frame));
+  EXPECT_EQ(memory::traffic().downloads - later.downloads, 2);
+  EXPECT_GE(sim.steps() - steps, engine::ReducedSim::kMostSubstepsPerReadback + 2);
+  EXPECT_EQ(sim.time(), end + frame);
+  // `stop` is asked before each read-back's substeps.
+  int asked = 0;
+  EXPECT_FALSE(sim.advance_to(sim.time() + 1.0, [&asked] { return ++asked == 2; }));
+  EXPECT_EQ(asked, 2);
 }
 
 // Auto searches only where the samples reach under half the body: never with every point sampled, nor
@@ -400,6 +449,52 @@ TEST(ReducedSim, StateDecodedOutsideTheDomainStopsNamingThePoint) {
           fmt::format("decodes to ({:.4g}, {:.4g}, {:.4g}) m", body.x[p] + 0.6f, body.x[n + p], body.x[2 * n + p]);
       EXPECT_NE(message.find(place), std::string::npos) << message;
     }
+  }
+}
+
+// A failure in the middle of a frame read back once stops as a read-back after each substep would: the
+// same substep, stage, point and message, and the state of the substep before it.
+TEST(ReducedSim, AFailureInAFrameNamesItsSubstepAsReadingBackEachWould) {
+  mpm::ParticleInit body = cube();
+  for (Index p = 0; p < body.count(); ++p) test::set_plane_vector(body.v, body.count(), p, Vec3<float>(8.0f, 0, 0));
+  struct Case {
+    engine::RomQuadrature quadrature;
+    Index samples;
+  };
+  for (const Case c : {Case{engine::RomQuadrature::Lagrangian, 0}, Case{engine::RomQuadrature::Lagrangian, 10},
+                       Case{engine::RomQuadrature::Eulerian, 10}}) {
+    engine::ReducedOptions options;
+    options.quadrature = c.quadrature;
+    options.samples = c.samples;
+    // x̂ = (0.25, 0, 0) puts the cube's far face at 0.875 m; at 8 m/s it leaves the domain's interior after a
+    // few substeps.
+    auto run = [&](bool frame) {
+      engine::ReducedSim sim(test::exec(), falling_config(), body, test::translation_map(), {0.25f, 0.0f, 0.0f},
+                             options);
+      try {
+        if (frame)
+          sim.substeps(kDt, 20);
+        else
+          for (int s = 0; s < 20; ++s) sim.substep(kDt);
+      } catch (const engine::NonFiniteError& error) {
+        return std::tuple(std::string(error.what()), error.step(), error.index(), sim.steps(), sim.time(), sim.xhat());
+      }
+      ADD_FAILURE() << "leaving the domain must stop the run";
+      return std::tuple(std::string(), std::int64_t(-1), std::int64_t(-1), std::int64_t(-1), 0.0, std::vector<float>());
+    };
+    const auto each = run(false), frame = run(true);
+    const auto& [message, step, point, steps, time, xhat] = frame;
+    // The P2G sums' order varies with the threads (atomics): x̂ to rounding, the rest exactly.
+    const std::string& each_message = std::get<0>(each);
+    EXPECT_EQ(message.substr(0, message.find("x̂ =")), each_message.substr(0, each_message.find("x̂ ="))) << message;
+    EXPECT_EQ(step, std::get<1>(each));
+    EXPECT_EQ(point, std::get<2>(each));
+    EXPECT_EQ(steps, std::get<3>(each));
+    EXPECT_EQ(time, std::get<4>(each));
+    EXPECT_LT(largest_difference(xhat, std::get<5>(each)), 1e-6f);
+    EXPECT_GT(step, 0) << message;  // in the middle of the frame
+    EXPECT_EQ(steps, step);
+    EXPECT_NE(message.find(fmt::format("material point {} decodes to", point)), std::string::npos) << message;
   }
 }
 
