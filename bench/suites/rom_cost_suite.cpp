@@ -52,8 +52,8 @@ void run_rom_cost_suite(Context& context) {
   const Index n = setup.particles.count();
   const rom::DeformationMapWeights map = random_map(geometry::bounds_of_planes(setup.particles.x, n));
   // The host traffic of one more call after the timed ones (buffers grown), a call running `substeps`
-  // substeps: on a GPU each allocation synchronises the device and each transfer is a blocking round trip,
-  // whatever the kernels' speed.
+  // substeps: on a GPU each allocation synchronises the device, each transfer is a blocking round trip and
+  // each launch costs the host microseconds outside a CUDA graph, whatever the kernels' speed.
   auto traffic_of_one = [&context](const std::string& key, int substeps, const std::function<void()>& run) {
     const memory::Traffic before = memory::traffic();
     run();
@@ -62,9 +62,11 @@ void run_rom_cost_suite(Context& context) {
     context.record(key + ".allocations_per_substep", double(after.allocations - before.allocations) * per_substep);
     context.record(key + ".uploads_per_substep", double(after.uploads - before.uploads) * per_substep);
     context.record(key + ".downloads_per_substep", double(after.downloads - before.downloads) * per_substep);
-    return fmt::format("{} allocations, {} uploads, {} downloads per {} substep{}",
+    context.record(key + ".launches_per_substep", double(after.launches - before.launches) * per_substep);
+    return fmt::format("{} allocations, {} uploads, {} downloads, {} launches per {} substep{}",
                        after.allocations - before.allocations, after.uploads - before.uploads,
-                       after.downloads - before.downloads, substeps, substeps == 1 ? "" : "s");
+                       after.downloads - before.downloads, after.launches - before.launches, substeps,
+                       substeps == 1 ? "" : "s");
   };
   // The reduced substeps run as advance_to runs a frame: several, read back once after the last (ReducedSim::
   // substeps), which is what a CUDA graph of them would replay. The full-order step reads back every substep.
@@ -134,11 +136,18 @@ void run_rom_cost_suite(Context& context) {
               "unconverged",
               per_substep, 100.0 * unconverged);
         }
-        std::string split;
+        std::string split, launches;
         for (const auto& [stage, seconds] : sim.stage_seconds())
           split += fmt::format(" {} {:.3g}", stage, 1e3 * seconds / double(sim.steps()));
-        fmt::print("         {}: {:.0f} quadrature points{}; ms per substep by stage:{}; host traffic: {}\n", name,
-                   quadrature_points, evaluations, split, traffic_of_one(key, kFrameSubsteps, frame));
+        for (const auto& [stage, count] : sim.stage_launches()) {
+          const double per_substep = double(count) / double(sim.steps());
+          launches += fmt::format(" {} {:.3g}", stage, per_substep);
+          context.record(fmt::format("{}.launches_per_substep.{}", key, stage), per_substep);
+        }
+        fmt::print(
+            "         {}: {:.0f} quadrature points{}; ms per substep by stage:{}; launches per substep by stage:{}; "
+            "host traffic: {}\n",
+            name, quadrature_points, evaluations, split, launches, traffic_of_one(key, kFrameSubsteps, frame));
       }
   }
 }

@@ -81,7 +81,7 @@ void FullOrderSim::substep(float dt) {
       if (time_ >= release.start && time_ < release.end) mpm::release_domains(exec_, particles_.view(), release.region);
   mpm::StepParams step = inputs_.at(time_, dt);
 
-  StageClock timed(stage_timeline_);
+  StageClock timed(stage_timeline_, stage_launches_);
   const float inverse_dx = 1.0f / config_.dx;
   // A grid that follows the sort serves until a particle's stencil leaves it: the last substep's G2P said so.
   const bool follows_sort = grid_follows_sort();
@@ -205,6 +205,10 @@ void FullOrderSim::restore_clock(double time, std::int64_t steps) {
 
 std::vector<std::pair<std::string, double>> FullOrderSim::stage_seconds() const {
   return stage_table(stages_, stage_timeline_);
+}
+
+std::vector<std::pair<std::string, std::int64_t>> FullOrderSim::stage_launches() const {
+  return stage_launch_table(stages_, stage_launches_);
 }
 
 }  // namespace romp::engine

@@ -93,6 +93,9 @@ class FullOrderSim {
 
   // Seconds spent in each stage so far, in pipeline order (only the stages this scene runs).
   std::vector<std::pair<std::string, double>> stage_seconds() const;
+  // Each stage's launches so far (memory::Traffic::launches): on CUDA, outside a graph, a few microseconds
+  // of the host's time each.
+  std::vector<std::pair<std::string, std::int64_t>> stage_launches() const;
 
  private:
   // Frees the particles (and corners) of every group whose `end` has come: at the first substep that
@@ -122,7 +125,8 @@ class FullOrderSim {
   std::int64_t steps_ = 0;
   std::vector<std::string> stages_;       // the stage table's names, in pipeline order
   mutable EventTimeline stage_timeline_;  // read when the table is asked for
-  std::vector<bool> released_;            // per Dirichlet group
+  std::vector<std::int64_t> stage_launches_;
+  std::vector<bool> released_;  // per Dirichlet group
   double last_enriched_share_ = 0.0;
   EnrichmentStatistics enrichment_;
 };

@@ -7,16 +7,6 @@
 #include "kernels/core/gather_planes.h"
 
 namespace romp::engine {
-namespace {
-
-template <class T>
-void gather_into(const Exec& exec, const DeviceBuffer<T>& source, Index source_count, int components,
-                 Span<const std::int32_t> index, DeviceBuffer<T>& destination, Span<const std::int64_t> live = {}) {
-  gather_planes(exec, source.span(), source_count, components, index, destination.span(), live);
-}
-
-}  // namespace
-
 void QuadraturePoints::allocate(Backend backend, Index n) {
   count = n;
   capacity = n;
@@ -41,15 +31,12 @@ void QuadraturePoints::gather_from(const Exec& exec, const QuadraturePoints& sou
                                    Span<const std::int64_t> live) {
   const Index n = source.count;
   resize(exec.backend, index.size());
-  gather_into(exec, source.x, n, 3, index, x, live);
-  gather_into(exec, source.X, n, 3, index, X, live);
-  gather_into(exec, source.v, n, 3, index, v, live);
-  gather_into(exec, source.F, n, 9, index, F, live);
-  gather_into(exec, source.mass, n, 1, index, mass, live);
-  gather_into(exec, source.volume0, n, 1, index, volume0, live);
-  gather_into(exec, source.material, n, 1, index, material, live);
-  gather_into(exec, source.group, n, 1, index, group, live);
-  gather_into(exec, source.id, n, 1, index, id, live);
+  GatheredArrays arrays;
+  arrays.add(source.x.span(), x.span(), 3).add(source.X.span(), X.span(), 3).add(source.v.span(), v.span(), 3);
+  arrays.add(source.F.span(), F.span(), 9).add(source.mass.span(), mass.span(), 1);
+  arrays.add(source.volume0.span(), volume0.span(), 1).add(source.material.span(), material.span(), 1);
+  arrays.add(source.group.span(), group.span(), 1).add(source.id.span(), id.span(), 1);
+  gather_arrays(exec, arrays, n, index, live);
 }
 
 mpm::ParticleView QuadraturePoints::view() {
@@ -78,13 +65,16 @@ ReferenceBody::ReferenceBody(Backend backend, const mpm::ParticleInit& reference
   id = DeviceBuffer<std::int32_t>::from_host(backend, ids);
 }
 
+GatheredArrays ReferenceBody::arrays_into(QuadraturePoints& points) const {
+  GatheredArrays arrays;
+  arrays.add(X.span(), points.X.span(), 3).add(mass.span(), points.mass.span(), 1);
+  arrays.add(volume0.span(), points.volume0.span(), 1).add(material.span(), points.material.span(), 1);
+  arrays.add(group.span(), points.group.span(), 1).add(id.span(), points.id.span(), 1);
+  return arrays;
+}
+
 void ReferenceBody::gather(const Exec& exec, Span<const std::int32_t> index, QuadraturePoints& points) const {
-  gather_into(exec, X, count, 3, index, points.X);
-  gather_into(exec, mass, count, 1, index, points.mass);
-  gather_into(exec, volume0, count, 1, index, points.volume0);
-  gather_into(exec, material, count, 1, index, points.material);
-  gather_into(exec, group, count, 1, index, points.group);
-  gather_into(exec, id, count, 1, index, points.id);
+  gather_arrays(exec, arrays_into(points), count, index);
 }
 
 void ReferenceBody::copy_to(QuadraturePoints& points) const {

@@ -6,6 +6,7 @@
 
 #include "kernels/core/device_buffer.h"
 #include "kernels/core/exec.h"
+#include "kernels/core/gather_planes.h"
 #include "kernels/mpm/particle_set.h"
 
 namespace romp::engine {
@@ -36,8 +37,10 @@ struct ReferenceBody {
   DeviceBuffer<float> X, mass, volume0;
   DeviceBuffer<std::int32_t> material, group, id;
 
-  // The reference state (X, mass, volume, material, group, id) of the material points `index`.
+  // The reference state (X, mass, volume, material, group, id) of the material points `index`, in one launch.
   void gather(const Exec& exec, Span<const std::int32_t> index, QuadraturePoints& points) const;
+  // The arrays `gather` copies, for a caller that gathers more of the same rows in that launch.
+  GatheredArrays arrays_into(QuadraturePoints& points) const;
   // `points` as every material point, whose reference state never changes.
   void copy_to(QuadraturePoints& points) const;
 };

@@ -39,9 +39,10 @@ mpm::ParticleView LagrangianQuadrature::build(const Exec& exec, const Deformatio
     const Index count = select_(exec, marked_.span(), 1, index_.span());
     points_.resize(exec.backend, count);
     const Span<const std::int32_t> index = index_.prefix(count);
-    reference_.gather(exec, index, points_);
-    // The positions the search saw, so P2G bins each point exactly where it was found.
-    gather_planes<float>(exec, positions_.span(), n, 3, index, points_.x.span());
+    // The reference state and the positions the search saw, so P2G bins each point exactly where it was found.
+    GatheredArrays arrays = reference_.arrays_into(points_);
+    arrays.add(positions_.span(), points_.x.span(), 3);
+    gather_arrays(exec, arrays, n, index);
     if (dg_dxhat_.size() < 3 * Index(latent_) * count)
       dg_dxhat_ = DeviceBuffer<float>(exec.backend, 3 * Index(latent_) * points_.capacity);
   }

@@ -160,7 +160,7 @@ void ReducedSim::substeps(float dt, int count) {
 void ReducedSim::run_substep(double time, float dt) {
   const mpm::StepParams step = inputs_.at(time, dt);
   const StepInputs::Row row = inputs_.readback_row();
-  StageClock timed(stage_timeline_);
+  StageClock timed(stage_timeline_, stage_launches_);
 
   timed([&] { samples_.draw(exec_, reference_); });
   const Index m = samples_.count();
@@ -295,6 +295,10 @@ void ReducedSim::throw_if_outside_domain(int row) {
 
 std::vector<std::pair<std::string, double>> ReducedSim::stage_seconds() const {
   return stage_table(stages_, stage_timeline_);
+}
+
+std::vector<std::pair<std::string, std::int64_t>> ReducedSim::stage_launches() const {
+  return stage_launch_table(stages_, stage_launches_);
 }
 
 std::int64_t ReducedSim::unconverged_projections() const { return latent_.gauss_newton_state(exec_).unconverged_total; }

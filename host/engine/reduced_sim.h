@@ -150,6 +150,9 @@ class ReducedSim {
   // Lagrangian quadrature points summed over the substeps so far.
   std::int64_t lagrangian_quadrature_points() const { return lagrangian_ ? lagrangian_->points_so_far() : 0; }
   std::vector<std::pair<std::string, double>> stage_seconds() const;
+  // Each stage's launches so far (memory::Traffic::launches): on CUDA, outside a graph, a few microseconds
+  // of the host's time each.
+  std::vector<std::pair<std::string, std::int64_t>> stage_launches() const;
 
  private:
   // Throws NonFiniteError when x̂ or v̂ is not finite after `stage`.
@@ -199,6 +202,7 @@ class ReducedSim {
   std::int64_t steps_ = 0;
   std::vector<std::string> stages_;       // the stage table's names, in pipeline order
   mutable EventTimeline stage_timeline_;  // read when the table is asked for
+  std::vector<std::int64_t> stage_launches_;
 };
 
 }  // namespace romp::engine

@@ -15,6 +15,7 @@
 #include "kernels/core/exec.h"
 #include "kernels/core/guarded_memory.h"
 #include "kernels/core/hd.h"
+#include "kernels/core/memory.h"
 #include "kernels/core/span.h"
 
 #if defined(__CUDACC__)
@@ -67,10 +68,11 @@ void for_each_cuda(const Exec& exec, Index n, const F& functor) {
 
 }  // namespace detail
 
-// kBlockSize: threads per CUDA block. Heavy functors on few elements (a neural law on a thousand particles:
-// four blocks of 256 would keep four SMs busy) spread over more SMs in smaller blocks.
-template <int kBlockSize = detail::kForEachBlockSize, class F>
-void for_each(const Exec& exec, Index n, const F& functor) {
+namespace detail {
+
+// for_each without the launch count: callers count.
+template <int kBlockSize, class F>
+void launch_each(const Exec& exec, Index n, const F& functor) {
 #if defined(ROMP_WITH_CUDA) && !defined(__CUDACC__)
   // In a build with the CUDA backend, a launch from a file nvcc does not compile would throw at run
   // time on a GPU only: refuse it at compile time, where CI (nvcc, no GPU) sees it.
@@ -81,7 +83,7 @@ void for_each(const Exec& exec, Index n, const F& functor) {
   if (n <= 0) return;
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
-    detail::for_each_cuda<kBlockSize>(exec, n, functor);
+    for_each_cuda<kBlockSize>(exec, n, functor);
     return;
 #else
     throw Error(
@@ -89,7 +91,19 @@ void for_each(const Exec& exec, Index n, const F& functor) {
         "launch it from a .cu file listed with romp_single_source()");
 #endif
   }
-  detail::for_each_cpu(exec, n, functor);
+  for_each_cpu(exec, n, functor);
+}
+
+}  // namespace detail
+
+// One launch (memory::traffic().launches counts it) of functor(i) for i in [0, n). kBlockSize: threads per
+// CUDA block. Heavy functors on few elements (a neural law on a thousand particles: four blocks of 256 would
+// keep four SMs busy) spread over more SMs in smaller blocks.
+template <int kBlockSize = detail::kForEachBlockSize, class F>
+void for_each(const Exec& exec, Index n, const F& functor) {
+  if (n <= 0) return;
+  memory::note_launch();
+  detail::launch_each<kBlockSize>(exec, n, functor);
 }
 
 namespace detail {
@@ -115,9 +129,19 @@ inline Index launch_size_up_to(const Exec& exec, Index bound, Span<const std::in
 
 // functor(i) for the i < count[0] of at most `bound` elements, count a value on exec's backend (empty: every
 // i < bound): a launch sized on the host while the count stays where a device computed it.
+// functor(i) over launch_size_up_to(exec, bound, count) elements, for a functor that skips those from count[0]
+// on itself; one launch whenever bound > 0, as CUDA launches the bound (the CPU may run none).
+template <int kBlockSize = detail::kForEachBlockSize, class F>
+void for_each_bounded(const Exec& exec, Index bound, Span<const std::int64_t> count, const F& functor) {
+  if (bound <= 0) return;
+  memory::note_launch();
+  const Index n = launch_size_up_to(exec, bound, count);
+  if (n > 0) detail::launch_each<kBlockSize>(exec, n, functor);
+}
+
 template <int kBlockSize = detail::kForEachBlockSize, class F>
 void for_each_up_to(const Exec& exec, Index bound, Span<const std::int64_t> count, const F& functor) {
-  for_each<kBlockSize>(exec, launch_size_up_to(exec, bound, count), detail::UpTo<F>{count, functor});
+  for_each_bounded<kBlockSize>(exec, bound, count, detail::UpTo<F>{count, functor});
 }
 
 }  // namespace romp

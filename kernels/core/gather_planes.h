@@ -1,4 +1,5 @@
-// GatherPlanes: the rows `index` of component-major planes, as a for_each functor.
+// GatherPlanes: the rows `index` of component-major planes, as a for_each functor; gather_arrays: the same
+// rows of several arrays in one launch.
 #pragma once
 
 #include <cstdint>
@@ -24,11 +25,30 @@ struct GatherPlanes {
   }
 };
 
-// GatherPlanes launched on exec's backend, for host code compiled as C++ (a launch on CUDA must come
-// from a file nvcc compiles). Instantiated for float and std::int32_t. `count`, where given, is a value on
-// exec's backend: only the first count[0] of the index.size() rows are gathered (for_each_up_to).
+// The same rows of several arrays, float, int32 and uint64, in one launch (a gather per array would be a launch
+// each): thread i copies row index[i] of every array. Each array has the source's row count and the
+// index's, component-major.
 template <class T>
-void gather_planes(const Exec& exec, Span<const T> source, Index source_count, int components,
-                   Span<const std::int32_t> index, Span<T> destination, Span<const std::int64_t> count = {});
+struct GatheredPlanes {
+  Span<const T> source;
+  Span<T> destination;
+  int components = 1;
+};
+struct GatheredArrays {
+  static constexpr int kMost = 6;
+  GatheredPlanes<float> floats[kMost];
+  GatheredPlanes<std::int32_t> ints[kMost];
+  GatheredPlanes<std::uint64_t> keys[kMost];
+  int float_count = 0, int_count = 0, key_count = 0;
+
+  GatheredArrays& add(Span<const float> source, Span<float> destination, int components);
+  GatheredArrays& add(Span<const std::int32_t> source, Span<std::int32_t> destination, int components);
+  GatheredArrays& add(Span<const std::uint64_t> source, Span<std::uint64_t> destination, int components);
+};
+
+// Rows `index` of every array of `arrays` (each holding source_count rows), into index.size() rows; with
+// `count`, a value on exec's backend, only the first count[0] of them (for_each_up_to).
+void gather_arrays(const Exec& exec, const GatheredArrays& arrays, Index source_count, Span<const std::int32_t> index,
+                   Span<const std::int64_t> count = {});
 
 }  // namespace romp

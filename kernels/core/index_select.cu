@@ -6,6 +6,7 @@
 
 #include "kernels/core/error.h"
 #include "kernels/core/guarded_memory.h"
+#include "kernels/core/memory.h"
 
 #if defined(__CUDACC__)
 #include <thrust/iterator/counting_iterator.h>
@@ -47,6 +48,7 @@ Span<const std::int64_t> IndexSelector::select_on_device(const Exec& exec, Span<
     return count_.prefix(1);
   }
   const FlagEquals equals{flags.data(), value, flag_count.empty() ? nullptr : flag_count.data()};
+  memory::note_launch();  // DeviceSelect, or the CPU's stand-in
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
     const thrust::counting_iterator<std::int32_t> indices(0);

@@ -27,7 +27,7 @@ cudaMemcpyKind copy_kind(Backend destination, Backend source) {
 }
 #endif
 
-std::atomic<std::int64_t> allocations{0}, uploads{0}, downloads{0};
+std::atomic<std::int64_t> allocations{0}, uploads{0}, downloads{0}, launches{0};
 
 }  // namespace
 
@@ -65,9 +65,11 @@ void release(Backend backend, void* pointer) noexcept {
 #endif
 }
 
-void copy(void* destination, Backend destination_backend, const void* source, Backend source_backend, std::size_t bytes,
-          Stream stream) {
-  if (bytes == 0) return;
+namespace {
+
+// copy() without the launch count: uploads and downloads count as themselves.
+void copy_bytes(void* destination, Backend destination_backend, const void* source, Backend source_backend,
+                std::size_t bytes, Stream stream) {
   if (destination_backend == Backend::Cpu && source_backend == Backend::Cpu) {
     const DeviceAccess transfer;
     std::memcpy(destination, source, bytes);
@@ -85,14 +87,27 @@ void copy(void* destination, Backend destination_backend, const void* source, Ba
 #endif
 }
 
+}  // namespace
+
+void copy(void* destination, Backend destination_backend, const void* source, Backend source_backend, std::size_t bytes,
+          Stream stream) {
+  if (bytes == 0) return;
+  note_launch();
+  copy_bytes(destination, destination_backend, source, source_backend, bytes, stream);
+}
+
+void note_launch(int count) { launches.fetch_add(count, std::memory_order_relaxed); }
+
 void upload(void* destination, Backend backend, const void* host, std::size_t bytes, Stream stream) {
-  if (bytes > 0) uploads.fetch_add(1, std::memory_order_relaxed);
-  copy(destination, backend, host, Backend::Cpu, bytes, stream);
+  if (bytes == 0) return;
+  uploads.fetch_add(1, std::memory_order_relaxed);
+  copy_bytes(destination, backend, host, Backend::Cpu, bytes, stream);
 }
 
 void download(void* host, const void* source, Backend backend, std::size_t bytes, Stream stream) {
-  if (bytes > 0) downloads.fetch_add(1, std::memory_order_relaxed);
-  copy(host, Backend::Cpu, source, backend, bytes, stream);
+  if (bytes == 0) return;
+  downloads.fetch_add(1, std::memory_order_relaxed);
+  copy_bytes(host, Backend::Cpu, source, backend, bytes, stream);
 }
 
 Traffic traffic() {
@@ -100,11 +115,13 @@ Traffic traffic() {
   counts.allocations = allocations.load(std::memory_order_relaxed);
   counts.uploads = uploads.load(std::memory_order_relaxed);
   counts.downloads = downloads.load(std::memory_order_relaxed);
+  counts.launches = launches.load(std::memory_order_relaxed);
   return counts;
 }
 
 void fill_zero(void* destination, Backend backend, std::size_t bytes, Stream stream) {
   if (bytes == 0) return;
+  note_launch();
   if (backend == Backend::Cpu) {
     const DeviceAccess transfer;
     std::memset(destination, 0, bytes);

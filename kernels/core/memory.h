@@ -29,10 +29,16 @@ void download(void* host, const void* source, Backend backend, std::size_t bytes
 // (cudaMalloc on CUDA, whose matching cudaFree synchronises the device) and non-empty uploads and
 // downloads (blocking round trips on CUDA, memcpy on the CPU). A loop's budget of both can so be
 // tested on a machine without a GPU.
+// Launches: the device work the host enqueues, each a few microseconds of its time on CUDA outside a CUDA
+// graph: for_each's kernels, romp's own, a CUB primitive (one, whatever kernels it runs inside), a memset, a
+// copy between device buffers. Counted the same on either backend where both run the same calls (a
+// for_each_bounded launch counts even where the CPU finds nothing to run, as CUDA launches the bound).
 struct Traffic {
-  std::int64_t allocations = 0, uploads = 0, downloads = 0;
+  std::int64_t allocations = 0, uploads = 0, downloads = 0, launches = 0;
 };
 Traffic traffic();
+// Counts `count` launches (for_each and the other launchers call it).
+void note_launch(int count = 1);
 
 // Sets `bytes` to zero, ordered on `stream` (asynchronous on CUDA).
 void fill_zero(void* destination, Backend backend, std::size_t bytes, Stream stream = nullptr);

@@ -7,6 +7,7 @@
 
 #include "kernels/core/error.h"
 #include "kernels/core/guarded_memory.h"
+#include "kernels/core/memory.h"
 
 #if defined(__CUDACC__)
 #include <cub/device/device_radix_sort.cuh>
@@ -23,6 +24,7 @@ std::pair<Span<const std::uint64_t>, Span<const std::int32_t>> PairSorter::opera
   ROMP_CHECK(values.size() == n, "PairSorter: one value per key");
   keys_.ensure_size(exec.backend, n);
   values_.ensure_size(exec.backend, n);
+  memory::note_launch();  // DeviceRadixSort, or the CPU's stand-in
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
     std::size_t bytes = 0;

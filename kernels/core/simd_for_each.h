@@ -13,6 +13,7 @@
 #include <omp.h>
 
 #include "kernels/core/for_each.h"
+#include "kernels/core/memory.h"
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__CUDA_ARCH__)
 #define ROMP_SIMD_CLONES __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
@@ -58,6 +59,7 @@ void simd_for_each(const Exec& exec, Index count, const Element& element) {
   if (exec.is_cuda()) {
     for_each(exec, count, element);
   } else if (count > 0) {
+    memory::note_launch();
     detail::simd_for_each_cpu(exec, count, element);
   }
 }

@@ -13,6 +13,7 @@
 
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
+#include "kernels/core/memory.h"
 #include "kernels/mpm/p2g_particle.h"
 #include "kernels/mpm/step.h"
 
@@ -155,6 +156,7 @@ void particle_to_grid_tiled(const Exec& exec, const ParticleView& particles, con
   ROMP_CHECK(blocks >= 0, "block_starts needs the particle count at its end");
   ROMP_CHECK(sorted_keys.size() == particles.count, "the sort's block key of every particle");
   if (blocks == 0) return;
+  memory::note_launch();
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
     tiled_block_to_grid<<<unsigned(blocks), kTiledThreads, 0, exec.stream>>>(particles, grid, step, block_starts,

@@ -104,6 +104,7 @@ Index run_starts(const Exec& exec, BlockSortScratch& scratch, DeviceBuffer<std::
     DeviceBuffer<std::int32_t>& lengths = sized(scratch.run_lengths, backend, n + 1);
     DeviceBuffer<std::int32_t>& runs = sized(scratch.run_count, backend, 1);
     lengths.fill_zero(exec.stream);
+    memory::note_launch(2);  // Encode and the scan (the memsets count themselves)
     std::size_t bytes = 0;
     ROMP_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(nullptr, bytes, keys.data(), unique.data(), lengths.data(),
                                                        runs.data(), int(n), exec.stream));
@@ -126,6 +127,7 @@ Index run_starts(const Exec& exec, BlockSortScratch& scratch, DeviceBuffer<std::
   DeviceBuffer<std::int32_t>& runs = sized(scratch.run_count, keys.backend(), 1);
   {
     const memory::DeviceAccess launch;  // the CPU's stand-in for DeviceRunLengthEncode and the scan
+    memory::note_launch(4);             // as CUDA's: two memsets, Encode and the scan
     std::int32_t count = 0;
     for (Index p = 0; p < n; ++p)
       if (p == 0 || keys.data()[p] != keys.data()[p - 1]) starts.data()[count++] = std::int32_t(p);
@@ -141,6 +143,7 @@ void sort_pairs(const Exec& exec, BlockSortScratch& scratch, Span<const std::int
   DeviceBuffer<std::uint64_t>& keys = scratch.keys;
   DeviceBuffer<std::int32_t>& order = scratch.order;
   const Index n = keys.size();
+  memory::note_launch();  // DeviceRadixSort, or the CPU's stand-in
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
     const Backend backend = keys.backend();

@@ -204,9 +204,10 @@ void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map,
              "the quadrature volume, iteration count and tolerance must be > 0");
   if (n == 0) return;
   with_map_evaluator(map, kernel, exec.backend, [&](const auto& evaluator) {
-    for_each(exec, launch_size_up_to(exec, n, count),
-             EulerianPoint<std::decay_t<decltype(evaluator)>>{evaluator, xhat.data(), vhat.data(), occupancy, density,
-                                                              volume, options, x, X_guess, F_guess, out, count});
+    for_each_bounded(
+        exec, n, count,
+        EulerianPoint<std::decay_t<decltype(evaluator)>>{evaluator, xhat.data(), vhat.data(), occupancy, density,
+                                                         volume, options, x, X_guess, F_guess, out, count});
   });
 }
 

@@ -8,6 +8,7 @@
 #include "kernels/core/error.h"
 #include "kernels/core/for_each.h"
 #include "kernels/core/guarded_memory.h"
+#include "kernels/core/memory.h"
 #include "kernels/math/cholesky_solve.h"
 #include "kernels/rom/map_evaluators.h"
 #include "kernels/rom/normal_equation_entry.h"
@@ -157,6 +158,7 @@ void project_positions(const Exec& exec, const DeformationMapView<float>& map, c
   const Decisions decisions{GaussNewtonStep{r, options}, projection, extrapolate};
   if (!exec.is_cuda() || m > kOneBlockSamples) return project_from_host(exec, map, decisions);
 #if defined(__CUDACC__)
+  memory::note_launch();
   with_map_evaluator(map, MapKernel::Fastest, exec.backend, [&](const auto& evaluator) {
     gauss_newton_block<<<1, kBlockThreads, 0, exec.stream>>>(evaluator, decisions);
     romp::detail::check_launch(exec);

@@ -188,16 +188,12 @@ void SampleNeighbourhood::write_eulerian_points(const Exec& exec, Vec3Planes<flo
   const float* base = candidates_.data();
   const Span<const std::int32_t> kept = kept_.prefix(c);
   const Span<const std::int64_t> n = kept_count_;
-  for_each_up_to(exec, c, n,
-                 GatherPlanes<float>{Span<const float>(base, 3 * c), c, Span<float>(x.data(), 3 * c), kept, 3});
-  for_each_up_to(
-      exec, c, n,
-      GatherPlanes<float>{Span<const float>(base + 3 * c, 3 * c), c, Span<float>(X_guess.data(), 3 * c), kept, 3});
-  for_each_up_to(
-      exec, c, n,
-      GatherPlanes<float>{Span<const float>(base + 6 * c, 9 * c), c, Span<float>(F_guess.data(), 9 * c), kept, 9});
-  for_each_up_to(exec, c, n, GatherPlanes<std::uint64_t>{candidate_cells_.prefix(c), c, place_cell, kept, 1});
-  for_each_up_to(exec, c, n, GatherPlanes<std::int32_t>{candidate_subs_.prefix(c), c, place_sub, kept, 1});
+  GatheredArrays arrays;
+  arrays.add(Span<const float>(base, 3 * c), Span<float>(x.data(), 3 * c), 3);
+  arrays.add(Span<const float>(base + 3 * c, 3 * c), Span<float>(X_guess.data(), 3 * c), 3);
+  arrays.add(Span<const float>(base + 6 * c, 9 * c), Span<float>(F_guess.data(), 9 * c), 9);
+  arrays.add(candidate_cells_.prefix(c), place_cell, 1).add(candidate_subs_.prefix(c), place_sub, 1);
+  gather_arrays(exec, arrays, c, kept, n);
 }
 
 }  // namespace romp::rom

@@ -174,7 +174,7 @@ TEST(ReducedSim, EulerianQuadratureInvertsOnlyTheSamplesNeighbours) {
 constexpr int kFrameSubsteps = 6;
 struct FrameTraffic {
   int allocating_frames = 0;
-  std::int64_t largest_uploads = 0, largest_downloads = 0;
+  std::int64_t largest_uploads = 0, largest_downloads = 0, launches = 0;
 };
 FrameTraffic frame_traffic(engine::RomQuadrature quadrature, engine::NeighbourSearch search,
                            engine::RomProjection projection = engine::RomProjection::Velocity) {
@@ -188,6 +188,7 @@ FrameTraffic frame_traffic(engine::RomQuadrature quadrature, engine::NeighbourSe
     traffic.allocating_frames += after.allocations > before.allocations;
     traffic.largest_uploads = std::max(traffic.largest_uploads, after.uploads - before.uploads);
     traffic.largest_downloads = std::max(traffic.largest_downloads, after.downloads - before.downloads);
+    traffic.launches = std::max(traffic.launches, after.launches - before.launches);
   }
   EXPECT_EQ(sim.steps(), 3 + 3 * kFrameSubsteps);
   return traffic;
@@ -204,6 +205,11 @@ TEST(ReducedSim, FramesReuseTheirBuffersAndReadBackOnce) {
   EXPECT_EQ(every.allocating_frames, 0);
   EXPECT_EQ(every.largest_uploads, 0);
   EXPECT_EQ(every.largest_downloads, per_frame);
+  // Launches: a few microseconds of the host's each on CUDA outside a graph, the bulk of a small substep's
+  // time there (bench/results/gpu-notes.md). Per substep about: the samples' gather 1, kinematics 6, the
+  // grid 4, P2G, the grid update and G2P 1 each, the projection with its read-back row 4; the bounds are
+  // today's counts, so that a change that adds launches says so here.
+  EXPECT_LE(every.launches, 20 * kFrameSubsteps);
 
   // The neighbours' and the Eulerian points' counts vary with the samples: their buffers grow with
   // headroom now and then (not in these frames), where they were allocated every substep.
@@ -213,6 +219,7 @@ TEST(ReducedSim, FramesReuseTheirBuffersAndReadBackOnce) {
   // (IndexSelector) reads its count back, on the CPU as on CUDA: one download a substep more.
   EXPECT_EQ(neighbours.largest_uploads, 0);
   EXPECT_EQ(neighbours.largest_downloads, per_frame + kFrameSubsteps);
+  EXPECT_LE(neighbours.launches, 26 * kFrameSubsteps);
 
   const FrameTraffic eulerian = frame_traffic(engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Auto);
   EXPECT_LE(eulerian.allocating_frames, 2);
@@ -221,6 +228,9 @@ TEST(ReducedSim, FramesReuseTheirBuffersAndReadBackOnce) {
   // over bounds (for few samples, every cell they could find).
   EXPECT_EQ(eulerian.largest_uploads, 0);
   EXPECT_EQ(eulerian.largest_downloads, per_frame);
+  // The Eulerian kinematics launch 19: the samples' decoding and domain check, the cells near them (8),
+  // the points placed, warm-started, inverted, tallied (2), kept, selected and gathered.
+  EXPECT_LE(eulerian.launches, 33 * kFrameSubsteps);
 
   // Gauss–Newton runs where the samples are (rom::project_positions): the position–velocity projection
   // costs the host what the velocity projection does, whatever its iterations.
@@ -229,6 +239,8 @@ TEST(ReducedSim, FramesReuseTheirBuffersAndReadBackOnce) {
   EXPECT_LE(position.allocating_frames, 2);
   EXPECT_EQ(position.largest_uploads, 0);
   EXPECT_EQ(position.largest_downloads, per_frame);
+  // The CPU's Gauss–Newton launches its linearisations one by one; CUDA's is one block, one launch.
+  EXPECT_LE(position.launches, 42 * kFrameSubsteps);
 }
 
 // A frame read back once runs the substeps one read-back per substep would: the same state after it.
