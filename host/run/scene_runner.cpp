@@ -267,14 +267,17 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   result.diagnostics = sim.diagnostics();
   if (result.substeps > 0) {
     // What the loop cost the host besides its kernels (on a GPU each allocation synchronises the
-    // device and each transfer is a blocking round trip): the first thing to read when a run is slow.
+    // device, each transfer is a blocking round trip and each launch a few microseconds of the host's
+    // time): the first thing to read when a run is slow.
     const memory::Traffic traffic = memory::traffic();
     const double substeps = double(result.substeps);
-    result.diagnostics.push_back(fmt::format(
-        "host traffic per substep, frame output included: {:.2f} allocations, {:.2f} uploads, {:.2f} downloads",
-        double(traffic.allocations - traffic_before.allocations) / substeps,
-        double(traffic.uploads - traffic_before.uploads) / substeps,
-        double(traffic.downloads - traffic_before.downloads) / substeps));
+    result.diagnostics.push_back(
+        fmt::format("host traffic per substep, frame output included: {:.2f} allocations, {:.2f} uploads, {:.2f} "
+                    "downloads, {:.1f} launches",
+                    double(traffic.allocations - traffic_before.allocations) / substeps,
+                    double(traffic.uploads - traffic_before.uploads) / substeps,
+                    double(traffic.downloads - traffic_before.downloads) / substeps,
+                    double(traffic.launches - traffic_before.launches) / substeps));
   }
   result.stage_seconds.emplace_back("output", output_seconds);
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
