@@ -131,6 +131,7 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   if (vhat_.empty()) throw singular_projection();
   for (Index i = 0; i < 3 * n; ++i) max_sample_speed_ = std::max(max_sample_speed_, std::fabs(reference.v[i]));
   max_sample_speed_ *= std::sqrt(3.0f);  // a bound on |v| from its largest component
+  last_sample_speed_ = max_sample_speed_;
   check_latent("the initial projection");
 
   stages_ = {"samples", "kinematics", "grid_build", "p2g", "grid_update", "g2p", "projection"};
@@ -217,6 +218,7 @@ void ReducedSim::accept_substeps(float dt, int count) {
   // One round trip for all the substeps.
   ROMP_CHECK(inputs_.read_back() == count, "a read-back per accept_substeps");
   float speed = 0.0f;
+  const double wave_speed = inputs_.max_wave_speed();
   for (int k = 0; k < count; ++k) {
     // The points outside the domain and the stages' failure slots (reported in this order, and before the
     // projection's result: each later stage ran on what the earlier one found), then the new state. A
@@ -237,7 +239,9 @@ void ReducedSim::accept_substeps(float dt, int count) {
     xhat_.assign(latent.begin(), latent.begin() + r);
     vhat_.assign(latent.begin() + r, latent.begin() + 2 * r);
     check_latent("the projection");
-    speed = std::max(speed, inputs_.largest_speed(k));
+    largest_cfl_ = std::max(largest_cfl_, double(dt) * (wave_speed + last_sample_speed_) / config_.dx);
+    last_sample_speed_ = inputs_.largest_speed(k);
+    speed = std::max(speed, last_sample_speed_);
     time_ += dt;
     ++steps_;
   }

@@ -94,8 +94,10 @@ class ReducedRun final : public Simulation {
   bool resumable() const override { return false; }
   std::vector<std::string> diagnostics() const override {
     std::vector<std::string> lines;
-    lines.push_back(fmt::format("reduced-order: {} substeps, {} position projections stopped unconverged", sim_.steps(),
-                                sim_.unconverged_projections()));
+    lines.push_back(
+        fmt::format("reduced-order: {} substeps, {} position projections stopped unconverged; largest "
+                    "CFL number {:.3g} (the step follows the speeds of the frame before)",
+                    sim_.steps(), sim_.unconverged_projections(), sim_.largest_cfl_number()));
     if (sim_.searches_neighbours() && sim_.steps() > 0)
       lines.push_back(
           fmt::format("Lagrangian quadrature: the samples and their neighbours, {:.0f} of {} material "
