@@ -107,6 +107,8 @@ if [ -x "$bench" ]; then
   b mlp 40 --suite mlp --repeats 10 --warmup 2
   b rom_cost_tower 90 --suite rom-cost --scene "$root/scenes/rom/tower.toml" --set dx=0.0048 \
     --rom-samples 10 --rom-samples 50 --repeats 3 --warmup 1
+  # Each case's time and its launches and transfers (gpu-notes.md's predictions check against these).
+  quote bench_rom_cost_tower "median|host traffic" 24
   b quadrature 40 --suite quadrature --repeats 3 --warmup 1
   b train 60 --suite train --repeats 2 --warmup 1
 fi
