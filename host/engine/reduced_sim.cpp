@@ -153,6 +153,8 @@ void ReducedSim::substeps(float dt, int count) {
   ROMP_CHECK(dt > 0.0f && std::isfinite(dt), fmt::format("substep dt must be finite and > 0, got {}", dt));
   ROMP_CHECK(count >= 1 && count <= kMostSubstepsPerReadback,
              fmt::format("substeps per read-back must be in [1, {}], got {}", kMostSubstepsPerReadback, count));
+  // The frame's samples go up before its first launch, if at all: none of its substeps uploads.
+  samples_.draw_ahead(exec_, count);
   double time = time_;
   for (int k = 0; k < count; ++k, time += dt) run_substep(time, dt);
   accept_substeps(dt, count);

@@ -73,19 +73,25 @@ void SampleSet::resize(const Exec& exec, Index m) {
   model_x_ = DeviceBuffer<float>(exec.backend, 3 * m);
 }
 
-void SampleSet::draw(const Exec& exec, const ReferenceBody& reference) {
-  if (next_row_ == rows_drawn_ && !(every_point_ && rows_drawn_ > 0)) {
-    // The next rows, each as one substep's choose() would give it, so the sequence is the same.
-    std::vector<std::int32_t> rows;
-    for (Index row = 0; row < rows_ahead_; ++row) {
-      const std::vector<std::int32_t> chosen = choose();
-      rows.insert(rows.end(), chosen.begin(), chosen.end());
-    }
-    index_.upload_front(exec.backend, rows, exec.stream);
-    rows_drawn_ = rows_ahead_;
-    next_row_ = 0;
-    per_row_ = Index(rows.size()) / rows_ahead_;
+void SampleSet::draw_ahead(const Exec& exec, Index substeps) {
+  if (every_point_ ? rows_drawn_ > 0 : rows_drawn_ - next_row_ >= substeps) return;
+  // The rows left, then the next ones, each as one substep's choose() would give it, so the sequence is the
+  // same however the draws are grouped.
+  std::vector<std::int32_t> rows(rows_.begin() + next_row_ * per_row_, rows_.end());
+  Index drawn = rows_drawn_ - next_row_;
+  for (; drawn < (every_point_ ? 1 : std::max(rows_ahead_, substeps)); ++drawn) {
+    const std::vector<std::int32_t> chosen = choose();
+    per_row_ = Index(chosen.size());
+    rows.insert(rows.end(), chosen.begin(), chosen.end());
   }
+  index_.upload_front(exec.backend, rows, exec.stream);
+  if (!every_point_) rows_ = std::move(rows);  // every point's one row is never drawn again
+  rows_drawn_ = drawn;
+  next_row_ = 0;
+}
+
+void SampleSet::draw(const Exec& exec, const ReferenceBody& reference) {
+  draw_ahead(exec, 1);
   const Index m = per_row_;
   resize(exec, m);
   current_ = index_.span().subspan(next_row_ * m, m);

@@ -25,6 +25,10 @@ class SampleSet {
   // drawn at once, in the same order as one substep at a time, and uploaded together: a substep
   // uploads nothing but every rows_ahead()-th (and, with every point sampled, only the first).
   void draw(const Exec& exec, const ReferenceBody& reference);
+  // Before a frame of `substeps` draws: makes sure their samples are on the device, uploading once (the rows
+  // left and as many new ones as a frame needs, at least rows_ahead()) when fewer are left, so that the
+  // frame's substeps upload nothing. The sequence of samples is draw()'s alone.
+  void draw_ahead(const Exec& exec, Index substeps);
   // Substeps whose samples one upload holds.
   Index rows_ahead() const { return rows_ahead_; }
   // x = g(X; x̂), F = ∇_X g, ∂g/∂x̂ and v = (∂g/∂x̂) v̂ at the samples.
@@ -51,6 +55,7 @@ class SampleSet {
   int boundary_samples_, latent_;
   bool every_point_;
   Index rows_ahead_ = 1, next_row_ = 0, rows_drawn_ = 0, per_row_ = 0;
+  std::vector<std::int32_t> rows_;                        // the rows uploaded last, as index_ holds them
   std::vector<std::int32_t> free_points_;                 // not in a Dirichlet group
   std::vector<std::vector<std::int32_t>> group_members_;  // per Dirichlet group
   geometry::Random random_;

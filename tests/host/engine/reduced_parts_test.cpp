@@ -12,6 +12,7 @@
 #include "host/engine/quadrature_points.h"
 #include "host/engine/reduced_quadrature.h"
 #include "host/engine/sample_set.h"
+#include "kernels/core/memory.h"
 #include "tests/host/mpm_test_scenes.h"
 #include "tests/host/rom_test_maps.h"
 #include "tests/support/test_exec.h"
@@ -58,6 +59,41 @@ TEST(SampleSet, DrawsDistinctSortedSamplesWithEveryBoundarysShare) {
   SampleSet all(init, 1, 0, 5, 3, 3);
   all.draw(test::exec(), reference);
   EXPECT_EQ(all.count(), 64);
+}
+
+// A frame's samples go up before it, in one upload, whatever rows are left: its draws upload nothing, and
+// the samples are the ones drawn a substep at a time.
+TEST(SampleSet, DrawsAheadForAFrameInOneUploadAndTheSameSequence) {
+  const mpm::ParticleInit init = body();
+  const ReferenceBody reference(test::exec().backend, init);
+  SampleSet one_by_one(init, 1, 10, 5, 3, 3), by_frames(init, 1, 10, 5, 3, 3);
+  const Index rows = one_by_one.rows_ahead();
+  auto sample_rows = [&reference](SampleSet& samples, Index draws) {
+    std::vector<std::vector<std::int32_t>> drawn;
+    for (Index d = 0; d < draws; ++d) {
+      samples.draw(test::exec(), reference);
+      drawn.push_back(download(test::exec().backend, samples.index(), test::exec().stream));
+    }
+    return drawn;
+  };
+  // One by one: an upload every rows_ahead() draws, 2 in rows + 10.
+  const memory::Traffic start = memory::traffic();
+  const auto expected = sample_rows(one_by_one, rows + 10);
+  EXPECT_EQ(memory::traffic().uploads - start.uploads, 2);
+  // By frames of rows − 5 and 15 draws: the second frame finds 5 rows left and uploads them with new ones first.
+  std::vector<std::vector<std::int32_t>> got;
+  for (const Index frame : {rows - 5, Index(15)}) {
+    by_frames.draw_ahead(test::exec(), frame);
+    const memory::Traffic before = memory::traffic();
+    const auto drawn = sample_rows(by_frames, frame);
+    EXPECT_EQ(memory::traffic().uploads - before.uploads, 0) << frame;
+    got.insert(got.end(), drawn.begin(), drawn.end());
+  }
+  EXPECT_EQ(got, expected);
+  // Enough rows left: no upload.
+  const memory::Traffic before = memory::traffic();
+  by_frames.draw_ahead(test::exec(), 3);
+  EXPECT_EQ(memory::traffic().uploads - before.uploads, 0);
 }
 
 TEST(SampleSet, DecodesPositionsAndVelocitiesThroughTheMap) {
