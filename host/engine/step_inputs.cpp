@@ -1,5 +1,5 @@
-// StepInputs: validation of a scene's solver configuration and the per-substep upload of its
-// time-dependent boundary conditions and loads.
+// StepInputs: validation of a scene's solver configuration, its time-dependent boundary conditions and
+// loads computed on the device for each substep, and the substeps' read-back rows.
 #include "host/engine/step_inputs.h"
 
 #include <fmt/format.h>
