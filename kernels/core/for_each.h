@@ -127,8 +127,6 @@ inline Index launch_size_up_to(const Exec& exec, Index bound, Span<const std::in
   return count[0] < bound ? Index(count[0]) : bound;
 }
 
-// functor(i) for the i < count[0] of at most `bound` elements, count a value on exec's backend (empty: every
-// i < bound): a launch sized on the host while the count stays where a device computed it.
 // functor(i) over launch_size_up_to(exec, bound, count) elements, for a functor that skips those from count[0]
 // on itself; one launch whenever bound > 0, as CUDA launches the bound (the CPU may run none).
 template <int kBlockSize = detail::kForEachBlockSize, class F>
@@ -139,6 +137,8 @@ void for_each_bounded(const Exec& exec, Index bound, Span<const std::int64_t> co
   if (n > 0) detail::launch_each<kBlockSize>(exec, n, functor);
 }
 
+// functor(i) for the i < count[0] of at most `bound` elements, count a value on exec's backend (empty: every
+// i < bound): a launch sized on the host while the count stays where a device computed it.
 template <int kBlockSize = detail::kForEachBlockSize, class F>
 void for_each_up_to(const Exec& exec, Index bound, Span<const std::int64_t> count, const F& functor) {
   for_each_bounded<kBlockSize>(exec, bound, count, detail::UpTo<F>{count, functor});

@@ -206,9 +206,9 @@ TEST(ReducedSim, FramesReuseTheirBuffersAndReadBackOnce) {
   EXPECT_EQ(every.largest_uploads, 0);
   EXPECT_EQ(every.largest_downloads, per_frame);
   // Launches: a few microseconds of the host's each on CUDA outside a graph, the bulk of a small substep's
-  // time there (bench/results/gpu-notes.md). Per substep about: the samples' gather 1, kinematics 6, the
-  // grid 4, P2G, the grid update and G2P 1 each, the projection with its read-back row 4; the bounds are
-  // today's counts, so that a change that adds launches says so here.
+  // time there (bench/results/gpu-notes.md). Per substep: the substep's inputs (3), the samples' gather, the
+  // kinematics, the grid's build (4), P2G, the grid update, G2P and the projection with its read-back row
+  // (4); the bounds are today's counts, so that a change that adds launches says so here.
   EXPECT_LE(every.launches, 20 * kFrameSubsteps);
 
   // The neighbours' and the Eulerian points' counts vary with the samples: their buffers grow with
