@@ -3,6 +3,7 @@
 
 #include "kernels/core/error.h"
 #include "kernels/core/exec.h"
+#include "kernels/core/memory.h"
 
 #if defined(ROMP_WITH_CUDA)
 #include "kernels/core/cuda_check.h"
@@ -46,6 +47,7 @@ void set_cuda_device(int ordinal) {
 }
 
 void synchronize(const Exec& exec) {
+  memory::refuse_in_capture("a wait for the device");
   if (!exec.is_cuda()) return;
 #if defined(ROMP_WITH_CUDA)
   ROMP_CUDA_CHECK(cudaStreamSynchronize(exec.stream));

@@ -47,7 +47,8 @@ inline constexpr int kForEachBlockSize = 256;
 inline void check_launch(const Exec& exec) {
   ROMP_CUDA_CHECK(cudaGetLastError());
 #if !defined(NDEBUG) || defined(ROMP_SYNC_LAUNCHES)
-  ROMP_CUDA_CHECK(cudaStreamSynchronize(exec.stream));
+  // Not while a graph is captured: the launch is recorded, not run, and a wait would end the capture.
+  if (memory::open_capture() == nullptr) ROMP_CUDA_CHECK(cudaStreamSynchronize(exec.stream));
 #endif
 }
 
@@ -66,11 +67,7 @@ void for_each_cuda(const Exec& exec, Index n, const F& functor) {
 }
 #endif
 
-}  // namespace detail
-
-namespace detail {
-
-// for_each without the launch count: callers count.
+// One launch of functor(i) for i in [0, n), counted (or recorded into an open capture on the CPU).
 template <int kBlockSize, class F>
 void launch_each(const Exec& exec, Index n, const F& functor) {
 #if defined(ROMP_WITH_CUDA) && !defined(__CUDACC__)
@@ -83,6 +80,7 @@ void launch_each(const Exec& exec, Index n, const F& functor) {
   if (n <= 0) return;
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
+    memory::note_launch();
     for_each_cuda<kBlockSize>(exec, n, functor);
     return;
 #else
@@ -91,7 +89,7 @@ void launch_each(const Exec& exec, Index n, const F& functor) {
         "launch it from a .cu file listed with romp_single_source()");
 #endif
   }
-  for_each_cpu(exec, n, functor);
+  memory::launch_on_cpu(exec.stream, 1, [exec, n, functor] { for_each_cpu(exec, n, functor); });
 }
 
 }  // namespace detail
@@ -101,8 +99,6 @@ void launch_each(const Exec& exec, Index n, const F& functor) {
 // keep four SMs busy) spread over more SMs in smaller blocks.
 template <int kBlockSize = detail::kForEachBlockSize, class F>
 void for_each(const Exec& exec, Index n, const F& functor) {
-  if (n <= 0) return;
-  memory::note_launch();
   detail::launch_each<kBlockSize>(exec, n, functor);
 }
 
@@ -117,24 +113,25 @@ struct UpTo {
 };
 }  // namespace detail
 
-// The elements to launch for `bound` of which the first count[0] (a value on exec's backend; empty: all
-// `bound`) are live: the bound on CUDA, where the count stays (no round trip to learn it), and the count
-// itself on the CPU, where it is in reach and a loop over the bound would hand the live prefix to the
-// first of its threads.
-inline Index launch_size_up_to(const Exec& exec, Index bound, Span<const std::int64_t> count) {
-  if (count.empty() || exec.is_cuda()) return bound;
-  const memory::DeviceAccess read;
-  return count[0] < bound ? Index(count[0]) : bound;
-}
-
-// functor(i) over launch_size_up_to(exec, bound, count) elements, for a functor that skips those from count[0]
-// on itself; one launch whenever bound > 0, as CUDA launches the bound (the CPU may run none).
+// functor(i) for a functor that skips the i from count[0] on itself (count a value on exec's backend; empty:
+// every i < bound): one launch whenever bound > 0. CUDA launches the bound, where the count stays (no round
+// trip to learn it); the CPU reads the count when the launch runs (in a replayed graph too) and loops over the
+// live prefix alone, which a loop over the bound would hand to the first of its threads.
 template <int kBlockSize = detail::kForEachBlockSize, class F>
 void for_each_bounded(const Exec& exec, Index bound, Span<const std::int64_t> count, const F& functor) {
   if (bound <= 0) return;
-  memory::note_launch();
-  const Index n = launch_size_up_to(exec, bound, count);
-  if (n > 0) detail::launch_each<kBlockSize>(exec, n, functor);
+  if (exec.is_cuda()) {
+    detail::launch_each<kBlockSize>(exec, bound, functor);
+    return;
+  }
+  memory::launch_on_cpu(exec.stream, 1, [exec, bound, count, functor] {
+    Index n = bound;
+    if (!count.empty()) {
+      const memory::DeviceAccess read;
+      n = count[0] < bound ? Index(count[0]) : bound;
+    }
+    if (n > 0) detail::for_each_cpu(exec, n, functor);
+  });
 }
 
 // functor(i) for the i < count[0] of at most `bound` elements, count a value on exec's backend (empty: every

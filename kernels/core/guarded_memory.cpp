@@ -15,6 +15,7 @@
 #include <mutex>
 
 #include "kernels/core/error.h"
+#include "kernels/core/memory.h"
 
 namespace romp::memory {
 namespace {
@@ -91,6 +92,7 @@ void enable_guard() {
 bool guard_enabled() { return g_enabled.load(std::memory_order_relaxed); }
 
 DeviceAccess::DeviceAccess() : counted_(guard_enabled()) {
+  refuse_in_capture("a host touch of device memory");
   if (!counted_) return;
   Arena& a = arena();
   const std::lock_guard<std::mutex> lock(a.mutex);

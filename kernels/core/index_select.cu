@@ -48,9 +48,9 @@ Span<const std::int64_t> IndexSelector::select_on_device(const Exec& exec, Span<
     return count_.prefix(1);
   }
   const FlagEquals equals{flags.data(), value, flag_count.empty() ? nullptr : flag_count.data()};
-  memory::note_launch();  // DeviceSelect, or the CPU's stand-in
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
+    memory::note_launch();  // DeviceSelect
     const thrust::counting_iterator<std::int32_t> indices(0);
     std::size_t bytes = 0;
     ROMP_CUDA_CHECK(
@@ -63,11 +63,14 @@ Span<const std::int64_t> IndexSelector::select_on_device(const Exec& exec, Span<
     throw Error("IndexSelector on CUDA from a translation unit not compiled by nvcc");
 #endif
   }
-  const memory::DeviceAccess launch;  // the CPU's stand-in for DeviceSelect
-  std::int32_t count = 0;
-  for (Index i = 0; i < n; ++i)
-    if (equals(std::int32_t(i))) selected[count++] = std::int32_t(i);
-  count_.data()[0] = count;
+  // The CPU's stand-in for DeviceSelect, one launch.
+  memory::launch_on_cpu(exec.stream, 1, [n, equals, selected, count = count_.data()] {
+    const memory::DeviceAccess launch;
+    std::int32_t found = 0;
+    for (Index i = 0; i < n; ++i)
+      if (equals(std::int32_t(i))) selected[found++] = std::int32_t(i);
+    count[0] = found;
+  });
   return count_.prefix(1);
 }
 

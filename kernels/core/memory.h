@@ -3,6 +3,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <vector>
 
 #include "kernels/core/exec.h"
 
@@ -42,5 +44,71 @@ void note_launch(int count = 1);
 
 // Sets `bytes` to zero, ordered on `stream` (asynchronous on CUDA).
 void fill_zero(void* destination, Backend backend, std::size_t bytes, Stream stream = nullptr);
+
+// A graph capture open on this thread (kernels/core/stream_graph.h). While one is open, launches are
+// recorded instead of run (CUDA's stream capture records its own; the CPU backend's are kept here, each
+// with its arguments as they were at capture, as a CUDA graph keeps them) and counted toward the graph, and
+// what a graph cannot hold is refused with romp::Error naming it: an allocation, an upload or a download,
+// and on the CPU a host touch of device memory (memory::DeviceAccess) outside a recorded launch, which on
+// CUDA would read a value before the graph has computed it.
+struct Capture {
+  Stream stream = nullptr;  // the stream captured: a launch on another is refused
+  std::vector<std::function<void()>> cpu_work;
+  std::int64_t launches = 0;
+};
+// This thread's open capture, or nullptr.
+Capture* open_capture();
+// Opens `capture` on this thread for its lifetime (captures do not nest).
+class CaptureScope {
+ public:
+  explicit CaptureScope(Capture& capture);
+  ~CaptureScope();
+  CaptureScope(const CaptureScope&) = delete;
+  CaptureScope& operator=(const CaptureScope&) = delete;
+};
+// Throws romp::Error when a capture is open on this thread: `what` (e.g. "a download of 8 bytes") cannot be
+// part of a graph.
+void refuse_in_capture(const char* what);
+
+namespace detail {
+// Whether this thread runs inside one counted CPU launch (launch_on_cpu's work, or a replayed graph):
+// launches made from there are part of it, neither counted nor recorded again.
+bool inside_cpu_launch();
+class InsideCpuLaunch {
+ public:
+  InsideCpuLaunch();
+  ~InsideCpuLaunch();
+  InsideCpuLaunch(const InsideCpuLaunch&) = delete;
+  InsideCpuLaunch& operator=(const InsideCpuLaunch&) = delete;
+
+ private:
+  bool outer_;
+};
+}  // namespace detail
+
+// Throws romp::Error when a capture is open on this thread and `stream` is not the one it captures (CUDA
+// would refuse the launch, or order it outside the graph; the CPU backend's streams are tokens, so a test on
+// the CPU sees the same mistake).
+void check_capture_stream(Stream stream);
+
+// `count` launches' worth of device work on the CPU backend, ordered on `stream` (a for_each loop, a CUB
+// primitive's stand-in): run now and counted, or, while a capture is open on this thread, recorded (with a
+// copy of `work`) to run when the graph is replayed. Launches that `work` itself makes are part of it.
+template <class Work>
+void launch_on_cpu(Stream stream, int count, const Work& work) {
+  if (detail::inside_cpu_launch()) {
+    work();
+    return;
+  }
+  if (Capture* capture = open_capture()) {
+    check_capture_stream(stream);
+    capture->cpu_work.emplace_back(work);
+    capture->launches += count;
+    return;
+  }
+  note_launch(count);
+  const detail::InsideCpuLaunch inside;
+  work();
+}
 
 }  // namespace romp::memory

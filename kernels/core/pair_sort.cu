@@ -24,9 +24,9 @@ std::pair<Span<const std::uint64_t>, Span<const std::int32_t>> PairSorter::opera
   ROMP_CHECK(values.size() == n, "PairSorter: one value per key");
   keys_.ensure_size(exec.backend, n);
   values_.ensure_size(exec.backend, n);
-  memory::note_launch();  // DeviceRadixSort, or the CPU's stand-in
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
+    memory::note_launch();  // DeviceRadixSort
     std::size_t bytes = 0;
     ROMP_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys.data(), keys_.data(), values.data(),
                                                     values_.data(), n, 0, 64, exec.stream));
@@ -37,14 +37,18 @@ std::pair<Span<const std::uint64_t>, Span<const std::int32_t>> PairSorter::opera
     throw Error("PairSorter on CUDA from a translation unit not compiled by nvcc");
 #endif
   } else {
-    const memory::DeviceAccess launch;  // the CPU's stand-in for the device sort
-    std::vector<Index> order(static_cast<std::size_t>(n));
-    std::iota(order.begin(), order.end(), Index(0));
-    std::stable_sort(order.begin(), order.end(), [&keys](Index a, Index b) { return keys[a] < keys[b]; });
-    for (Index i = 0; i < n; ++i) {
-      keys_.data()[i] = keys[order[std::size_t(i)]];
-      values_.data()[i] = values[order[std::size_t(i)]];
-    }
+    // The CPU's stand-in for the device sort, one launch.
+    memory::launch_on_cpu(exec.stream, 1,
+                          [n, keys, values, sorted_keys = keys_.data(), sorted_values = values_.data()] {
+      const memory::DeviceAccess launch;
+      std::vector<Index> order(static_cast<std::size_t>(n));
+      std::iota(order.begin(), order.end(), Index(0));
+      std::stable_sort(order.begin(), order.end(), [&keys](Index a, Index b) { return keys[a] < keys[b]; });
+      for (Index i = 0; i < n; ++i) {
+        sorted_keys[i] = keys[order[std::size_t(i)]];
+        sorted_values[i] = values[order[std::size_t(i)]];
+      }
+    });
   }
   return {keys_.prefix(n), values_.prefix(n)};
 }

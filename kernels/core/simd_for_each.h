@@ -59,8 +59,7 @@ void simd_for_each(const Exec& exec, Index count, const Element& element) {
   if (exec.is_cuda()) {
     for_each(exec, count, element);
   } else if (count > 0) {
-    memory::note_launch();
-    detail::simd_for_each_cpu(exec, count, element);
+    memory::launch_on_cpu(exec.stream, 1, [exec, count, element] { detail::simd_for_each_cpu(exec, count, element); });
   }
 }
 

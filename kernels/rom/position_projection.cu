@@ -156,7 +156,12 @@ void project_positions(const Exec& exec, const DeformationMapView<float>& map, c
   ROMP_CHECK(projection.latent.size() == 2 * r + 1, "the latent state needs x̂, v̂ and a status: 2 r + 1 values");
   ROMP_CHECK(projection.state.size() == 1, "the projection keeps one GaussNewtonState");
   const Decisions decisions{GaussNewtonStep{r, options}, projection, extrapolate};
-  if (!exec.is_cuda() || m > kOneBlockSamples) return project_from_host(exec, map, decisions);
+  if (m > kOneBlockSamples) return project_from_host(exec, map, decisions);
+  if (!exec.is_cuda()) {
+    // The CPU's stand-in for the one block CUDA runs: one launch, whose decisions it reads where they are.
+    memory::launch_on_cpu(exec.stream, 1, [exec, map, decisions] { project_from_host(exec, map, decisions); });
+    return;
+  }
 #if defined(__CUDACC__)
   memory::note_launch();
   with_map_evaluator(map, MapKernel::Fastest, exec.backend, [&](const auto& evaluator) {
