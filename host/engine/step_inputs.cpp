@@ -64,9 +64,14 @@ StepInputs::StepInputs(const Exec& exec, const FullOrderConfig& config) : exec_(
   rows_ = DeviceBuffer<std::int64_t>(exec.backend, row_words());
 }
 
-void StepInputs::upload_materials(double time) {
+std::vector<bool> StepInputs::strength_off_at(double time) const {
   std::vector<bool> off;
   for (const MaterialSpec& m : config_.materials) off.push_back(m.strength_off_at(time));
+  return off;
+}
+
+void StepInputs::upload_materials(double time) {
+  std::vector<bool> off = strength_off_at(time);
   if (!materials_.empty() && off == strength_off_) return;
   std::vector<material::MaterialParams<float>> table;
   for (std::size_t i = 0; i < config_.materials.size(); ++i) {
@@ -78,26 +83,73 @@ void StepInputs::upload_materials(double time) {
   strength_off_ = std::move(off);
 }
 
-mpm::StepParams StepInputs::at(double time, float dt) {
+mpm::ActiveInputs StepInputs::active_at(double time) const {
   const FullOrderConfig& config = config_;
-  upload_materials(time);
   mpm::ActiveInputs active;
-  Index colliders = 0, loads = 0;
-  for (std::size_t i = 0; i < config.colliders.size(); ++i) {
-    if (time >= config.colliders[i].end) continue;
-    active.colliders |= std::uint64_t(1) << i;
-    ++colliders;
-  }
-  for (std::size_t i = 0; i < config.loads.size(); ++i) {
-    if (time < config.loads[i].start || time >= config.loads[i].end) continue;
-    active.loads |= std::uint64_t(1) << i;
-    ++loads;
-  }
+  for (std::size_t i = 0; i < config.colliders.size(); ++i)
+    if (time < config.colliders[i].end) active.colliders |= std::uint64_t(1) << i;
+  for (std::size_t i = 0; i < config.loads.size(); ++i)
+    if (time >= config.loads[i].start && time < config.loads[i].end) active.loads |= std::uint64_t(1) << i;
   // Every traction keeps its index (the particles name it): an inactive one is 0.
   for (std::size_t i = 0; i < config.tractions.size(); ++i)
     if (time >= config.tractions[i].start && time < config.tractions[i].end) active.tractions |= std::uint64_t(1) << i;
-  const mpm::InputTables tables{colliders_.prefix(colliders), dirichlet_.span(), loads_.prefix(loads),
-                                tractions_.span()};
+  return active;
+}
+
+mpm::StepParams StepInputs::at(double time, float dt) {
+  upload_materials(time);
+  return params(time, dt, active_at(time));
+}
+
+bool StepInputs::FrameShape::operator==(const FrameShape& other) const {
+  return dt == other.dt && count == other.count && active.colliders == other.active.colliders &&
+         active.loads == other.active.loads && active.tractions == other.active.tractions &&
+         materials == other.materials;
+}
+
+std::optional<StepInputs::FrameShape> StepInputs::frame_shape(double time, float dt, int count) {
+  upload_materials(time);
+  FrameShape frame{dt, count, active_at(time), materials_.data()};
+  const std::vector<bool> off = strength_off_at(time);
+  // The substeps' times as the host's clock sums them.
+  double t = time;
+  for (int k = 1; k < count; ++k) {
+    t += dt;
+    const mpm::ActiveInputs active = active_at(t);
+    if (active.colliders != frame.active.colliders || active.loads != frame.active.loads ||
+        active.tractions != frame.active.tractions || strength_off_at(t) != off)
+      return std::nullopt;
+  }
+  return frame;
+}
+
+void StepInputs::start_frame(double time) {
+  if (frame_start_.empty()) frame_start_ = DeviceBuffer<double>(exec_.backend, 1);
+  upload(exec_.backend, frame_start_.span(), Span<const double>(&time, 1), exec_.stream);
+}
+
+mpm::StepParams StepInputs::at_in_frame(const FrameShape& frame, int substep) {
+  ROMP_CHECK(!frame_start_.empty() && substep >= 0 && substep < frame.count,
+             "at_in_frame: a substep of a frame after start_frame");
+  return params(mpm::SubstepTime(frame_start_.span(), substep), frame.dt, frame.active);
+}
+
+void StepInputs::claim_rows(int count) {
+  ROMP_CHECK(
+      pending_rows_ + count <= most_rows_,
+      fmt::format("{} substeps without a read-back: at most {} were reserved", pending_rows_ + count, most_rows_));
+  pending_rows_ += count;
+}
+
+mpm::StepParams StepInputs::params(const mpm::SubstepTime& time, float dt, const mpm::ActiveInputs& active) {
+  const FullOrderConfig& config = config_;
+  const auto bits = [](std::uint64_t mask) {
+    Index count = 0;
+    for (; mask; mask &= mask - 1) ++count;
+    return count;
+  };
+  const mpm::InputTables tables{colliders_.prefix(bits(active.colliders)), dirichlet_.span(),
+                                loads_.prefix(bits(active.loads)), tractions_.span()};
   mpm::inputs_at(exec_,
                  {collider_schedule_.span(), motion_schedule_.span(), load_schedule_.span(), traction_schedule_.span()},
                  time, dt, active, tables);

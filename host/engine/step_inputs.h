@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -52,6 +53,25 @@ class StepInputs {
   // read-back row, reset: failure slots "no failure", the largest speed 0.
   mpm::StepParams at(double time, float dt);
 
+  // A frame of `count` substeps of dt from `time` as one CUDA graph: what stays fixed over its substeps, which
+  // the graph bakes in (the active colliders, loads and tractions, the material table), or nothing where the
+  // frame's substeps differ in them (it then runs substep by substep). Puts the frame's material table on the
+  // device (an upload where it changed), so the frame itself uploads nothing. `at_in_frame(k)` then gives
+  // substep k's parameters with its time read on the device from the frame's start, which `start_frame`
+  // writes there (one upload), and `claim_rows` takes the rows of a frame whose graph was replayed.
+  struct FrameShape {
+    float dt = 0.0f;
+    int count = 0;
+    mpm::ActiveInputs active;
+    const void* materials = nullptr;
+    bool operator==(const FrameShape& other) const;
+    bool operator!=(const FrameShape& other) const { return !(*this == other); }
+  };
+  std::optional<FrameShape> frame_shape(double time, float dt, int count);
+  void start_frame(double time);
+  mpm::StepParams at_in_frame(const FrameShape& frame, int substep);
+  void claim_rows(int count);
+
   // The read-back: a row per substep since the last read_back, each holding the stages' failure slots, the
   // largest speed the substep's moved particles stored (StepParams::largest_speed, for the next CFL step)
   // and room its owner reserved, so that many substeps' checks, speeds and results come back in one
@@ -85,6 +105,10 @@ class StepInputs {
  private:
   // The material table at `time` (strength windows applied), uploaded only when it changes.
   void upload_materials(double time);
+  std::vector<bool> strength_off_at(double time) const;
+  mpm::ActiveInputs active_at(double time) const;
+  // The parameters of a substep from `time` with `active` inputs, and its read-back row.
+  mpm::StepParams params(const mpm::SubstepTime& time, float dt, const mpm::ActiveInputs& active);
 
   Exec exec_;
   FullOrderConfig config_;
@@ -101,6 +125,7 @@ class StepInputs {
   DeviceBuffer<mpm::RigidMotion> dirichlet_;
   DeviceBuffer<mpm::RegionLoad> loads_;
   DeviceBuffer<Vec3<float>> tractions_;
+  DeviceBuffer<double> frame_start_;  // at_in_frame's clock
   // The read-back rows, each row_words() long: kStageCount failure slots, the reserved slots, one word whose
   // first 4 bytes hold a float speed, then the reserved floats (two per word).
   DeviceBuffer<std::int64_t> rows_;

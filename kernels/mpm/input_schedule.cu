@@ -19,11 +19,14 @@ ROMP_HD_INLINE int set_bit(std::uint64_t mask, int k) {
 
 struct InputsAt {
   InputSchedule schedule;
-  float time, dt;
+  SubstepTime start;
+  float dt;
   ActiveInputs active;
   InputTables out;
 
   ROMP_HD void operator()(Index t) const {
+    // Positions as the host computed them: time rounded to float first, then the products.
+    const float time = float(start.at(dt));
     if (t < out.colliders.size()) {
       ColliderState c = schedule.colliders[set_bit(active.colliders, int(t))];
       c.center = c.center + time * c.linear_velocity;
@@ -56,8 +59,8 @@ int bits(std::uint64_t mask) {
 
 }  // namespace
 
-void inputs_at(const Exec& exec, const InputSchedule& schedule, double time, float dt, const ActiveInputs& active,
-               const InputTables& out) {
+void inputs_at(const Exec& exec, const InputSchedule& schedule, const SubstepTime& time, float dt,
+               const ActiveInputs& active, const InputTables& out) {
   ROMP_CHECK(schedule.colliders.size() <= kMostScheduledInputs && schedule.loads.size() <= kMostScheduledInputs &&
                  schedule.tractions.size() <= kMostScheduledInputs,
              "inputs_at: at most 64 colliders, loads and tractions");
@@ -71,8 +74,7 @@ void inputs_at(const Exec& exec, const InputSchedule& schedule, double time, flo
                  within(active.tractions, schedule.tractions.size()),
              "inputs_at: an active entry the schedule lacks");
   const Index entries = out.colliders.size() + out.dirichlet.size() + out.loads.size() + out.tractions.size();
-  // Positions as the host computed them: time rounded to float first, then the products.
-  for_each(exec, entries, InputsAt{schedule, float(time), dt, active, out});
+  for_each(exec, entries, InputsAt{schedule, time, dt, active, out});
 }
 
 }  // namespace romp::mpm

@@ -43,7 +43,25 @@ struct InputTables {
   Span<RegionLoad> loads;
   Span<Vec3<float>> tractions;
 };
-void inputs_at(const Exec& exec, const InputSchedule& schedule, double time, float dt, const ActiveInputs& active,
-               const InputTables& out);
+// The start of a substep: `time`, or where `frame_start` is given, frame_start[0] (a value on the device, so a
+// CUDA graph of a frame's substeps serves every frame) plus `substep` steps of dt, summed one at a time in
+// double as the host's clock sums them.
+struct SubstepTime {
+  double time = 0.0;
+  Span<const double> frame_start;
+  int substep = 0;
+
+  SubstepTime(double t) : time(t) {}  // NOLINT(google-explicit-constructor): a time is a substep's time
+  SubstepTime(Span<const double> start, int k) : frame_start(start), substep(k) {}
+  ROMP_HD double at(float dt) const {
+    if (frame_start.empty()) return time;
+    double t = frame_start[0];
+    for (int k = 0; k < substep; ++k) t += double(dt);
+    return t;
+  }
+};
+
+void inputs_at(const Exec& exec, const InputSchedule& schedule, const SubstepTime& time, float dt,
+               const ActiveInputs& active, const InputTables& out);
 
 }  // namespace romp::mpm
