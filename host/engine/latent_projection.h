@@ -32,6 +32,9 @@ class LatentProjection {
   // v̂_{n+1} from the samples' trial velocities on the tangent space at x̂_n (∂g/∂x̂ there), and x̂_{n+1}
   // (Gauss–Newton from 2 x̂_n − x̂_{n−1}, from x̂_n + Δt v̂_{n+1} the first time, or x̂_n + Δt v̂_{n+1}).
   void project(const Exec& exec, const DeformationMap& map, SampleSet& samples, float dt);
+  // Whether projecting `samples` samples runs on the device alone (the position projection's Gauss–Newton in
+  // one block; more samples read each decision back).
+  bool projects_on_device(Index samples) const { return !positions_ || samples <= rom::kOneBlockSamples; }
 
   // The Gauss–Newton totals (a download); zero without the position projection.
   rom::GaussNewtonState gauss_newton_state(const Exec& exec) const;

@@ -51,6 +51,12 @@ class ReducedQuadrature {
   // The points of the last build (Eulerian: every point inverted, inside the body or not; counted on the
   // device, so this is a download).
   virtual Index last_count(const Exec& exec) const = 0;
+
+  // Whether a build around `samples` samples runs on the device alone (no round trip: a CUDA graph can hold it).
+  virtual bool builds_on_device(Index samples) const = 0;
+  // The host's account of `builds` builds that a replayed graph ran (what build() keeps on the host besides
+  // its launches).
+  virtual void count_replayed_builds(int builds) { (void)builds; }
 };
 
 class LagrangianQuadrature final : public ReducedQuadrature {
@@ -64,6 +70,8 @@ class LagrangianQuadrature final : public ReducedQuadrature {
   mpm::PointSource failure_source() const override;
   std::string describe(const mpm::FailedPoint& point) const override;
   Index last_count(const Exec&) const override { return points_.count; }
+  bool builds_on_device(Index) const override { return !search_; }  // the search counts the neighbours on the host
+  void count_replayed_builds(int builds) override { points_so_far_ += std::int64_t(builds) * points_.count; }
 
   bool searches_neighbours() const { return search_; }
   // Quadrature points summed over the builds so far.
@@ -106,6 +114,9 @@ class EulerianQuadrature final : public ReducedQuadrature {
   mpm::PointSource failure_source() const override;
   std::string describe(const mpm::FailedPoint& point) const override;
   Index last_count(const Exec& exec) const override;
+  bool builds_on_device(Index samples) const override {
+    return rom::SampleNeighbourhood::counts_on_device(samples, settings_.lattice);
+  }
   // The points used, of the inverted ones: selected on the device and counted there.
   Span<const std::int64_t> live_count() const override { return used_count_; }
 

@@ -5,6 +5,8 @@
 #include <numeric>
 #include <unordered_set>
 
+#include "kernels/core/error.h"
+#include "kernels/core/memory.h"
 #include "kernels/rom/reduced_dynamics.h"
 
 namespace romp::engine {
@@ -41,12 +43,12 @@ SampleSet::SampleSet(const mpm::ParticleInit& reference, Index dirichlet_groups,
     (group == mpm::kNoDirichletGroup ? free_points_ : group_members_[std::size_t(group)]).push_back(std::int32_t(p));
   }
   // Every substep draws as many: wanted free points, and from each group its share or all it has.
-  Index per_substep = every_point_ ? points_total_ : std::min<Index>(wanted_, Index(free_points_.size()));
+  per_substep_ = every_point_ ? points_total_ : std::min<Index>(wanted_, Index(free_points_.size()));
   if (!every_point_)
     for (const std::vector<std::int32_t>& members : group_members_)
-      per_substep += std::min<Index>(boundary_samples_, Index(members.size()));
+      per_substep_ += std::min<Index>(boundary_samples_, Index(members.size()));
   // Up to 256 substeps in an upload of at most 2^20 indices (4 MiB); every point is one row for good.
-  rows_ahead_ = every_point_ ? 1 : std::clamp<Index>((Index(1) << 20) / std::max<Index>(per_substep, 1), 1, 256);
+  rows_ahead_ = every_point_ ? 1 : std::clamp<Index>((Index(1) << 20) / std::max<Index>(per_substep_, 1), 1, 256);
 }
 
 std::vector<std::int32_t> SampleSet::choose() {
@@ -92,10 +94,32 @@ void SampleSet::draw_ahead(const Exec& exec, Index substeps) {
 
 void SampleSet::draw(const Exec& exec, const ReferenceBody& reference) {
   draw_ahead(exec, 1);
-  const Index m = per_row_;
-  resize(exec, m);
-  current_ = index_.span().subspan(next_row_ * m, m);
+  take(exec, reference, index_.span().subspan(next_row_ * per_row_, per_row_));
   if (!every_point_) ++next_row_;
+}
+
+void SampleSet::stage_frame(const Exec& exec, Index substeps) {
+  ROMP_CHECK(every_point_ || rows_drawn_ - next_row_ >= substeps, "stage_frame: after draw_ahead for the frame");
+  if (every_point_) return;
+  const Index words = substeps * per_row_;
+  frame_rows_.ensure_size(exec.backend, words);
+  memory::copy(frame_rows_.data(), exec.backend, index_.data() + next_row_ * per_row_, exec.backend,
+               std::size_t(words) * sizeof(std::int32_t), exec.stream);
+  next_row_ += substeps;
+}
+
+void SampleSet::draw_staged(const Exec& exec, const ReferenceBody& reference, Index substep) {
+  if (every_point_) {
+    take(exec, reference, index_.prefix(per_row_));
+    return;
+  }
+  ROMP_CHECK(frame_rows_.size() >= (substep + 1) * per_row_, "draw_staged: a substep of the staged frame");
+  take(exec, reference, frame_rows_.span().subspan(substep * per_row_, per_row_));
+}
+
+void SampleSet::take(const Exec& exec, const ReferenceBody& reference, Span<const std::int32_t> rows) {
+  resize(exec, rows.size());
+  current_ = rows;
   reference.gather(exec, current_, points_);
 }
 

@@ -29,6 +29,16 @@ class SampleSet {
   // left and as many new ones as a frame needs, at least rows_ahead()) when fewer are left, so that the
   // frame's substeps upload nothing. The sequence of samples is draw()'s alone.
   void draw_ahead(const Exec& exec, Index substeps);
+  // For a CUDA graph of a frame, whose substep k must find its samples at one place in every frame: after
+  // draw_ahead, copies the frame's `substeps` rows to the front of a buffer of their own (one copy on the
+  // device; every point: nothing) and takes them from the sequence as draws would. draw_staged(k) is then
+  // draw() for the frame's substep k.
+  void stage_frame(const Exec& exec, Index substeps);
+  void draw_staged(const Exec& exec, const ReferenceBody& reference, Index substep);
+  // Where stage_frame put the frame's rows (empty with every point sampled).
+  Span<const std::int32_t> staged_rows() const { return frame_rows_.span(); }
+  // The samples each substep draws.
+  Index per_substep() const { return per_substep_; }
   // Substeps whose samples one upload holds.
   Index rows_ahead() const { return rows_ahead_; }
   // x = g(X; x̂), F = ∇_X g, ∂g/∂x̂ and v = (∂g/∂x̂) v̂ at the samples.
@@ -54,13 +64,16 @@ class SampleSet {
   Index points_total_, wanted_;
   int boundary_samples_, latent_;
   bool every_point_;
-  Index rows_ahead_ = 1, next_row_ = 0, rows_drawn_ = 0, per_row_ = 0;
+  Index per_substep_ = 0, rows_ahead_ = 1, next_row_ = 0, rows_drawn_ = 0, per_row_ = 0;
   std::vector<std::int32_t> rows_;                        // the rows uploaded last, as index_ holds them
   std::vector<std::int32_t> free_points_;                 // not in a Dirichlet group
   std::vector<std::vector<std::int32_t>> group_members_;  // per Dirichlet group
   geometry::Random random_;
   QuadraturePoints points_;
-  DeviceBuffer<std::int32_t> index_;  // rows_drawn_ substeps' samples, a row each
+  DeviceBuffer<std::int32_t> index_;       // rows_drawn_ substeps' samples, a row each
+  DeviceBuffer<std::int32_t> frame_rows_;  // stage_frame's rows
+  // Takes the samples `rows` holds and gathers their reference state.
+  void take(const Exec& exec, const ReferenceBody& reference, Span<const std::int32_t> rows);
   Span<const std::int32_t> current_;  // this substep's row
   DeviceBuffer<float> dg_dxhat_, model_x_;
 };

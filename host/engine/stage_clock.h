@@ -18,23 +18,32 @@ namespace romp::engine {
 class StageClock {
  public:
   // `launches`: the launches of each stage so far, grown as stages run.
-  StageClock(EventTimeline& timeline, std::vector<std::int64_t>& launches) : timeline_(timeline), launches_(launches) {
-    timeline_.open();
+  StageClock(EventTimeline& timeline, std::vector<std::int64_t>& launches)
+      : timeline_(&timeline), launches_(&launches) {
+    timeline_->open();
   }
+  // Runs the stages untimed: while a CUDA graph is captured, when they run later as one launch.
+  static StageClock untimed() { return StageClock(); }
 
   // Runs the next stage and marks its end.
   template <class Stage>
   void operator()(Stage&& stage) {
+    if (timeline_ == nullptr) {
+      stage();
+      return;
+    }
     const std::int64_t before = memory::traffic().launches;
     stage();
-    timeline_.close(next_);
-    if (launches_.size() <= next_) launches_.resize(next_ + 1, 0);
-    launches_[next_++] += memory::traffic().launches - before;
+    timeline_->close(next_);
+    if (launches_->size() <= next_) launches_->resize(next_ + 1, 0);
+    (*launches_)[next_++] += memory::traffic().launches - before;
   }
 
  private:
-  EventTimeline& timeline_;
-  std::vector<std::int64_t>& launches_;
+  StageClock() = default;
+
+  EventTimeline* timeline_ = nullptr;
+  std::vector<std::int64_t>* launches_ = nullptr;
   std::size_t next_ = 0;
 };
 

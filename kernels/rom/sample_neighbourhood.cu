@@ -126,6 +126,11 @@ Span<const std::uint64_t> SampleNeighbourhood::near_bases(const Exec& exec, Vec3
   return sort_near_(exec, keys_.prefix(n), samples_.prefix(n)).first;
 }
 
+bool SampleNeighbourhood::counts_on_device(Index samples, const EulerianLattice& lattice) {
+  const Index l = lattice.points_per_cell;
+  return Index(kCellsWidth) * kCellsWidth * kCellsWidth * samples * l * l * l <= lattice.candidates_without_count;
+}
+
 SampleNeighbourhood::Points SampleNeighbourhood::build_eulerian_points(const Exec& exec, Vec3Planes<const float> X,
                                                                        Vec3Planes<const float> x,
                                                                        Mat3Planes<const float> F,
@@ -157,11 +162,8 @@ SampleNeighbourhood::Points SampleNeighbourhood::build_eulerian_points(const Exe
   // cover every cell the samples could have found (their pairs), so the cells' count stays on the device;
   // for many, whose bound would be far above the cells they share, it is read back.
   const int l = lattice.points_per_cell;
-  const Index per_cell = Index(l) * l * l;
-  const Index cells = pairs * per_cell <= lattice.candidates_without_count
-                          ? pairs
-                          : Index(download(exec.backend, cell_count, exec.stream)[0]);
-  const Index candidates = cells * per_cell;
+  const Index cells = counts_on_device(m, lattice) ? pairs : Index(download(exec.backend, cell_count, exec.stream)[0]);
+  const Index candidates = cells * Index(l) * l * l;
   candidates_.ensure_size(exec.backend, 15 * candidates);
   candidate_cells_.ensure_size(exec.backend, candidates);
   candidate_subs_.ensure_size(exec.backend, candidates);

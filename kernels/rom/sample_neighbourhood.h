@@ -51,6 +51,8 @@ class SampleNeighbourhood {
     Index bound = 0;
     Span<const std::int64_t> count;  // valid until the next build
   };
+  // Whether a build for `samples` samples keeps its count on the device (no download).
+  static bool counts_on_device(Index samples, const EulerianLattice& lattice);
   Points build_eulerian_points(const Exec& exec, Vec3Planes<const float> X, Vec3Planes<const float> x,
                                Mat3Planes<const float> F, const EulerianLattice& lattice);
   // Writes the points of the last build, the first count of `bound` slots of each: positions, first guesses
