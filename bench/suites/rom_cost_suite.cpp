@@ -31,9 +31,12 @@ struct CostCase {
   engine::RomProjection projection;
   const char* name;
   bool warm_start = true;
+  bool frame_graphs = true;  // frames as CUDA graphs where the step allows (ReducedOptions::frame_graphs)
 };
 constexpr CostCase kCases[] = {
     {engine::RomQuadrature::Eulerian, engine::RomProjection::Velocity, "eulerian_velocity"},
+    // The same substeps launched one by one: what the frame's graph saves the host.
+    {engine::RomQuadrature::Eulerian, engine::RomProjection::Velocity, "eulerian_velocity_no_graph", true, false},
     {engine::RomQuadrature::Eulerian, engine::RomProjection::Velocity, "eulerian_velocity_cold", false},
     {engine::RomQuadrature::Eulerian, engine::RomProjection::PositionVelocity, "eulerian_position"},
     {engine::RomQuadrature::Lagrangian, engine::RomProjection::Velocity, "lagrangian_velocity"},
@@ -106,6 +109,7 @@ void run_rom_cost_suite(Context& context) {
         reduced.projection = c.projection;
         reduced.samples = Index(samples);
         reduced.warm_start_inversion = c.warm_start;
+        reduced.frame_graphs = c.frame_graphs;
         engine::ReducedSim sim(exec, setup.config, setup.particles, map, std::vector<float>(6, 0.0f), reduced);
         const float dt = sim.stable_dt();
         const std::string name =
@@ -154,10 +158,12 @@ void run_rom_cost_suite(Context& context) {
         for (const auto& [stage, seconds] : sim.stage_seconds())
           split += fmt::format(" {} {:.3g}", stage, 1e3 * seconds / double(sim.steps()));
         const std::string launches = launches_by_stage(key, sim.stage_launches(), sim.steps());
+        context.record(key + ".graph_frames", double(sim.graph_frames()));
         fmt::print(
             "         {}: {:.0f} quadrature points{}; ms per substep by stage:{}; launches per substep by stage:{}; "
-            "host traffic: {}\n",
-            name, quadrature_points, evaluations, split, launches, traffic_of_one(key, kFrameSubsteps, frame));
+            "frames as graphs: {} ({} captured); host traffic: {}\n",
+            name, quadrature_points, evaluations, split, launches, sim.graph_frames(), sim.graph_captures(),
+            traffic_of_one(key, kFrameSubsteps, frame));
       }
   }
 }

@@ -100,9 +100,10 @@ FullOrderConfig checked_config(FullOrderConfig config, const mpm::ParticleInit& 
 
 ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::ParticleInit& reference,
                        rom::DeformationMapWeights map, std::vector<float> xhat, ReducedOptions options)
-    : exec_(exec),
+    : stream_(exec.backend),
+      exec_(with_capturable_stream(exec, stream_)),
       config_(checked_config(std::move(config), reference, map, xhat, options)),
-      inputs_(exec, config_),
+      inputs_(exec_, config_),
       grid_(exec.backend, config_.dx, /*keep_old_velocity=*/false),
       options_(options),
       map_(exec.backend, std::move(map)),
@@ -112,7 +113,7 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
       latent_(exec.backend, xhat, options.projection == RomProjection::PositionVelocity,
               {options.gauss_newton_iterations, options.gauss_newton_tolerance}),
       xhat_(std::move(xhat)),
-      stage_timeline_(exec) {
+      stage_timeline_(exec_) {
   // A row per substep: its failure slots and records, its samples' largest speed and [x̂ | v̂ | status].
   inputs_.reserve_readback(2 * map_.latent() + 1, kReadbackSlots, kMostSubstepsPerReadback);
   if (options_.quadrature == RomQuadrature::Lagrangian) {
@@ -134,7 +135,10 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   last_sample_speed_ = max_sample_speed_;
   check_latent("the initial projection");
 
-  stages_ = {"samples", "kinematics", "grid_build", "p2g", "grid_update", "g2p", "projection"};
+  stages_ = {"samples", "kinematics", "grid_build", "p2g", "grid_update", "g2p", "projection", "frame_graphs"};
+  const Index m = samples_.per_substep();
+  graphs_possible_ = options_.frame_graphs && m <= mpm::SparseGrid::kFewPoints && quadrature_->builds_on_device(m) &&
+                     latent_.projects_on_device(m);
 }
 
 Error ReducedSim::singular_projection() const {
@@ -155,17 +159,54 @@ void ReducedSim::substeps(float dt, int count) {
              fmt::format("substeps per read-back must be in [1, {}], got {}", kMostSubstepsPerReadback, count));
   // The frame's samples go up before its first launch, if at all: none of its substeps uploads.
   samples_.draw_ahead(exec_, count);
-  double time = time_;
-  for (int k = 0; k < count; ++k, time += dt) run_substep(time, dt);
+  if (!run_frame_graph(dt, count)) {
+    double time = time_;
+    for (int k = 0; k < count; ++k, time += dt) run_substep(inputs_.at(time, dt), -1);
+  }
   accept_substeps(dt, count);
 }
 
-void ReducedSim::run_substep(double time, float dt) {
-  const mpm::StepParams step = inputs_.at(time, dt);
-  const StepInputs::Row row = inputs_.readback_row();
-  StageClock timed(stage_timeline_, stage_launches_);
+bool ReducedSim::run_frame_graph(float dt, int count) {
+  // The first substeps run eagerly: they size the buffers (an allocation cannot be captured) and set the
+  // warm starts' history.
+  if (!graphs_possible_ || steps_ == 0) return false;
+  const std::optional<StepInputs::FrameShape> inputs = inputs_.frame_shape(time_, dt, count);
+  if (!inputs) return false;
+  samples_.stage_frame(exec_, count);
+  inputs_.start_frame(time_);
+  const FrameKey key{*inputs, samples_.staged_rows().data()};
+  if (frame_graph_.empty() || !(key == *frame_key_)) {
+    // The capture runs the substeps' host code (which takes their read-back rows) and none of their launches.
+    frame_key_.reset();
+    frame_graph_.capture(exec_, [&] {
+      for (int k = 0; k < count; ++k) run_substep(inputs_.at_in_frame(*inputs, k), k);
+    });
+    frame_key_ = key;
+    ++graph_captures_;
+  } else {
+    inputs_.claim_rows(count);
+    quadrature_->count_replayed_builds(count);
+  }
+  const std::size_t stage = stages_.size() - 1;
+  stage_timeline_.open();
+  frame_graph_.replay(exec_);
+  stage_timeline_.close(stage);
+  if (stage_launches_.size() <= stage) stage_launches_.resize(stage + 1, 0);
+  ++stage_launches_[stage];
+  ++graph_frames_;
+  return true;
+}
 
-  timed([&] { samples_.draw(exec_, reference_); });
+void ReducedSim::run_substep(const mpm::StepParams& step, Index staged_substep) {
+  const StepInputs::Row row = inputs_.readback_row();
+  StageClock timed = staged_substep < 0 ? StageClock(stage_timeline_, stage_launches_) : StageClock::untimed();
+
+  timed([&] {
+    if (staged_substep < 0)
+      samples_.draw(exec_, reference_);
+    else
+      samples_.draw_staged(exec_, reference_, staged_substep);
+  });
   const Index m = samples_.count();
   // Alg. 3 / 4: the kinematics at x̂_n, v̂_n of the samples and of the quadrature points.
   mpm::ParticleView quadrature;
@@ -196,7 +237,7 @@ void ReducedSim::run_substep(double time, float dt) {
   // substep copied into its row before the next substep reuses the buffers: the new state and the points
   // that the failure slots name.
   timed([&] {
-    latent_.project(exec_, map_, samples_, dt);
+    latent_.project(exec_, map_, samples_, step.dt);
     const Span<const float> state = latent_.state();
     memory::copy(row.values.data(), exec_.backend, state.data(), exec_.backend,
                  std::size_t(state.size()) * sizeof(float), exec_.stream);

@@ -27,6 +27,7 @@
 #include "kernels/core/error.h"
 #include "kernels/core/event_timeline.h"
 #include "kernels/core/exec.h"
+#include "kernels/core/stream_graph.h"
 #include "kernels/math/vec3.h"
 #include "kernels/mpm/failed_points.h"
 #include "kernels/mpm/particle_set.h"
@@ -75,6 +76,11 @@ struct ReducedOptions {
   // changes x̂ by less than tolerance × (1 + |x̂|).
   int gauss_newton_iterations = 10;
   double gauss_newton_tolerance = 1e-6;
+  // Run each frame's substeps as one CUDA graph (kernels/core/stream_graph.h) where the step allows: a build
+  // with no round trip (at most mpm::SparseGrid::kFewPoints samples, no Lagrangian neighbour search, an
+  // Eulerian candidate count that stays on the device, Gauss–Newton in one block) and inputs that do not
+  // change within the frame. Captured again when the frame's Δt, substep count or inputs change.
+  bool frame_graphs = true;
 };
 
 class ReducedSim {
@@ -155,8 +161,13 @@ class ReducedSim {
   std::int64_t lagrangian_quadrature_points() const { return lagrangian_ ? lagrangian_->points_so_far() : 0; }
   std::vector<std::pair<std::string, double>> stage_seconds() const;
   // Each stage's launches so far (memory::Traffic::launches): on CUDA, outside a graph, a few microseconds
-  // of the host's time each.
+  // of the host's time each. Frames run as graphs count in the last stage, "frame_graphs", one launch each.
   std::vector<std::pair<std::string, std::int64_t>> stage_launches() const;
+  // Whether frames run as graphs (ReducedOptions::frame_graphs and the step allows it), how many graphs were
+  // captured, and how many frames ran as one.
+  bool runs_frame_graphs() const { return graphs_possible_; }
+  std::int64_t graph_captures() const { return graph_captures_; }
+  std::int64_t graph_frames() const { return graph_frames_; }
 
  private:
   // Throws NonFiniteError when x̂ or v̂ is not finite after `stage`.
@@ -168,9 +179,13 @@ class ReducedSim {
   enum FailedPointRecord { kP2GPoint = 0, kG2PPoint = 1, kSampleOutsidePoint = 2, kQuadratureOutsidePoint = 3 };
   static constexpr int kReadbackSlots = kFirstRecord + 4 * mpm::kFailedPointWords;
 
-  // The stages of one substep from `time`, with nothing read back: its row of the read-back gets its failure
-  // slots, the records of the points they name, and [x̂ | v̂ | status] after it.
-  void run_substep(double time, float dt);
+  // The stages of one substep with parameters `step`, with nothing read back: its row of the read-back gets its
+  // failure slots, the records of the points they name, and [x̂ | v̂ | status] after it. `staged_substep` < 0:
+  // the next samples drawn, each stage timed; otherwise substep k of a frame captured as a graph (its staged
+  // samples, untimed).
+  void run_substep(const mpm::StepParams& step, Index staged_substep);
+  // The frame's substeps as one graph (captured when its key changed), where allowed: returns whether it ran.
+  bool run_frame_graph(float dt, int count);
   // Moves the points at x back inside the grid's interior, noting the first that was outside in the row's
   // slot `slot` (rom::keep_points_inside): the substep goes on without waiting, on positions the grid holds.
   void keep_inside_domain(Vec3Planes<float> x, Span<std::int64_t> row_slots, ReadbackSlot slot);
@@ -186,6 +201,7 @@ class ReducedSim {
   Error singular_projection() const;
   rom::QuadratureTally quadrature_tally() const;
 
+  OwnedStream stream_;  // where the caller's is CUDA's legacy default stream, which cannot be captured
   Exec exec_;
   FullOrderConfig config_;
   StepInputs inputs_;
@@ -209,6 +225,17 @@ class ReducedSim {
   std::vector<std::string> stages_;       // the stage table's names, in pipeline order
   mutable EventTimeline stage_timeline_;  // read when the table is asked for
   std::vector<std::int64_t> stage_launches_;
+
+  // The frame graph and what it was captured for: the frame's inputs and where its samples are staged.
+  struct FrameKey {
+    StepInputs::FrameShape inputs;
+    const void* samples = nullptr;
+    bool operator==(const FrameKey& other) const { return inputs == other.inputs && samples == other.samples; }
+  };
+  bool graphs_possible_ = false;
+  StreamGraph frame_graph_;
+  std::optional<FrameKey> frame_key_;
+  std::int64_t graph_captures_ = 0, graph_frames_ = 0;
 };
 
 }  // namespace romp::engine

@@ -20,10 +20,11 @@ struct ReducedRunOptions {
   std::string projection = "velocity";
   Index samples = 0;  // 0: every material point
   std::uint64_t seed = 0;
-  double cfl = 0.0;  // > 0: the reduced substeps' CFL number instead of the scene's time.cfl
+  double cfl = 0.0;              // > 0: the reduced substeps' CFL number instead of the scene's time.cfl
+  bool no_frame_graphs = false;  // launch each substep's kernels instead of replaying a frame's graph
 };
 
-// Adds --rom, --quadrature, --projection, --samples, --sample-seed and --rom-cfl to `run`.
+// Adds --rom, --quadrature, --projection, --samples, --sample-seed, --rom-cfl and --no-frame-graphs to `run`.
 void add_reduced_run_options(CLI::App& run, ReducedRunOptions& options);
 
 // The simulation of a reduced-order run: loads the model, encodes the scene's initial state and logs

@@ -98,6 +98,11 @@ class ReducedRun final : public Simulation {
         fmt::format("reduced-order: {} substeps, {} position projections stopped unconverged; largest "
                     "CFL number {:.3g} (the step follows the speeds of the frame before)",
                     sim_.steps(), sim_.unconverged_projections(), sim_.largest_cfl_number()));
+    lines.push_back(sim_.runs_frame_graphs()
+                        ? fmt::format("reduced-order frames: {} replayed as one graph each ({} captured)",
+                                      sim_.graph_frames(), sim_.graph_captures())
+                        : std::string("reduced-order frames: launched substep by substep (their build needs the "
+                                      "host, or graphs are off)"));
     if (sim_.searches_neighbours() && sim_.steps() > 0)
       lines.push_back(
           fmt::format("Lagrangian quadrature: the samples and their neighbours, {:.0f} of {} material "

@@ -112,7 +112,8 @@ struct NeighbourRun {
 };
 // 3 samples (seeded) in a 32,768-point body under a map that deforms it.
 engine::ReducedSim deformed_body(engine::RomQuadrature quadrature, engine::NeighbourSearch search,
-                                 engine::RomProjection projection = engine::RomProjection::Velocity) {
+                                 engine::RomProjection projection = engine::RomProjection::Velocity,
+                                 bool frame_graphs = true) {
   const mpm::ParticleInit body =
       test::lattice_box(Vec3<float>::constant(0.25f), Vec3<float>::constant(0.75f), kDx, 2, 1000.0f);
   engine::ReducedOptions options;
@@ -121,6 +122,7 @@ engine::ReducedSim deformed_body(engine::RomQuadrature quadrature, engine::Neigh
   options.seed = 5;
   options.neighbour_search = search;
   options.projection = projection;
+  options.frame_graphs = frame_graphs;
   return engine::ReducedSim(test::exec(), falling_config(), body, test::small_nonlinear_map(0.25f, 0.5f, 0.003f),
                             {0.0f, 0.0f, 0.0f}, options);
 }
@@ -177,8 +179,9 @@ struct FrameTraffic {
   std::int64_t largest_uploads = 0, largest_downloads = 0, launches = 0;
 };
 FrameTraffic frame_traffic(engine::RomQuadrature quadrature, engine::NeighbourSearch search,
-                           engine::RomProjection projection = engine::RomProjection::Velocity) {
-  engine::ReducedSim sim = deformed_body(quadrature, search, projection);
+                           engine::RomProjection projection = engine::RomProjection::Velocity,
+                           bool frame_graphs = false) {
+  engine::ReducedSim sim = deformed_body(quadrature, search, projection, frame_graphs);
   sim.substeps(kDt, 3);
   FrameTraffic traffic;
   for (int f = 0; f < 3; ++f) {
@@ -194,6 +197,7 @@ FrameTraffic frame_traffic(engine::RomQuadrature quadrature, engine::NeighbourSe
   return traffic;
 }
 
+// Substep by substep (ReducedOptions::frame_graphs off); frames run as graphs are the next test's.
 TEST(ReducedSim, FramesReuseTheirBuffersAndReadBackOnce) {
   // Up: nothing (the samples of many substeps go up at once, every point's once; x̂ and v̂ stay on the
   // device). Down, once a frame: each substep's row of failure slots with the domain checks' (samples,
@@ -241,6 +245,84 @@ TEST(ReducedSim, FramesReuseTheirBuffersAndReadBackOnce) {
   EXPECT_EQ(position.largest_downloads, per_frame);
   // The CPU's Gauss–Newton launches its linearisations one by one; CUDA's is one block, one launch.
   EXPECT_LE(position.launches, 42 * kFrameSubsteps);
+}
+
+// A frame replayed as a graph costs the host a launch, the copy of its samples to where the graph reads them,
+// the frame's start time (one upload: the substeps' times are computed on the device from it) and the
+// read-back. Gauss–Newton is one block on the CPU as on CUDA.
+TEST(ReducedSim, AFrameRunAsAGraphCostsTheHostALaunch) {
+  struct Case {
+    engine::RomQuadrature quadrature;
+    engine::RomProjection projection;
+  };
+  for (const Case c : {Case{engine::RomQuadrature::Lagrangian, engine::RomProjection::Velocity},
+                       Case{engine::RomQuadrature::Eulerian, engine::RomProjection::Velocity},
+                       Case{engine::RomQuadrature::Eulerian, engine::RomProjection::PositionVelocity}}) {
+    const FrameTraffic graphs = frame_traffic(c.quadrature, engine::NeighbourSearch::Never, c.projection, true);
+    EXPECT_LE(graphs.allocating_frames, 1);  // the first frame's staged samples
+    EXPECT_EQ(graphs.largest_uploads, 1);
+    EXPECT_EQ(graphs.largest_downloads, 1);
+    EXPECT_EQ(graphs.launches, 2);
+  }
+  // A Lagrangian neighbour search counts the neighbours on the host: its frames run substep by substep.
+  EXPECT_FALSE(deformed_body(engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Always).runs_frame_graphs());
+  EXPECT_FALSE(deformed_body(engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Auto,
+                             engine::RomProjection::Velocity, false)
+                   .runs_frame_graphs());
+}
+
+// A cube under a floor that rises into it at 2 m/s until t = 15.5 ms: frames of 6 substeps of 1 ms replayed
+// as graphs give the state that the same frames give substep by substep, bit for bit on one thread (each
+// launch's arguments as at capture, its inputs from device memory: a time baked in would hold the floor
+// still). The frame the floor leaves in runs substep by substep, the one after it is captured anew, and so is
+// a frame of another Δt.
+engine::ReducedSim pushed_cube(engine::RomQuadrature quadrature, engine::RomProjection projection, bool frame_graphs) {
+  engine::FullOrderConfig config = falling_config();
+  engine::ColliderSpec floor;
+  floor.initial.shape = mpm::ColliderShape::HalfSpace;
+  floor.initial.center = Vec3<float>(0.5f, 0.37f, 0.5f);
+  floor.initial.linear_velocity = Vec3<float>(0.0f, 2.0f, 0.0f);
+  floor.end = 0.0155;
+  config.colliders.push_back(floor);
+  engine::ReducedOptions options;
+  options.quadrature = quadrature;
+  options.projection = projection;
+  options.neighbour_search = engine::NeighbourSearch::Never;
+  options.samples = 10;
+  options.seed = 3;
+  options.frame_graphs = frame_graphs;
+  return engine::ReducedSim(test::exec_with_threads(1), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f},
+                            options);
+}
+
+TEST(ReducedSim, FramesReplayedAsGraphsMatchFramesRunSubstepBySubstep) {
+  for (const engine::RomQuadrature quadrature : {engine::RomQuadrature::Lagrangian, engine::RomQuadrature::Eulerian})
+    for (const engine::RomProjection projection :
+         {engine::RomProjection::Velocity, engine::RomProjection::PositionVelocity}) {
+      SCOPED_TRACE(fmt::format("quadrature {}, projection {}", int(quadrature), int(projection)));
+      engine::ReducedSim graphs = pushed_cube(quadrature, projection, true);
+      engine::ReducedSim eager = pushed_cube(quadrature, projection, false);
+      ASSERT_TRUE(graphs.runs_frame_graphs());
+      for (int f = 0; f < 4; ++f) {
+        graphs.substeps(kDt, 6);
+        eager.substeps(kDt, 6);
+      }
+      // Frame 1 runs eagerly (it sizes the buffers), 2 is captured, 3 sees the floor leave, 4 is captured anew.
+      EXPECT_EQ(graphs.graph_captures(), 2);
+      EXPECT_EQ(graphs.graph_frames(), 2);
+      EXPECT_EQ(graphs.xhat(), eager.xhat());
+      EXPECT_EQ(graphs.vhat(), eager.vhat());
+      EXPECT_GT(graphs.vhat()[1], 0.5f);  // the floor threw the cube up
+      graphs.substeps(0.5f * kDt, 6);
+      eager.substeps(0.5f * kDt, 6);
+      EXPECT_EQ(graphs.graph_captures(), 3);
+      EXPECT_EQ(graphs.xhat(), eager.xhat());
+      EXPECT_EQ(graphs.vhat(), eager.vhat());
+      EXPECT_EQ(graphs.time(), eager.time());
+      EXPECT_EQ(graphs.steps(), eager.steps());
+      const auto launches = graphs.stage_launches();
+      EXPECT_EQ(launches.back(), (std::pair<std::string, std::int64_t>("frame_graphs", 3)));
+    }
 }
 
 // A frame read back once runs the substeps one read-back per substep would: the same state after it.
