@@ -174,27 +174,48 @@ bool ReducedSim::run_frame_graph(float dt, int count) {
   if (!inputs) return false;
   samples_.stage_frame(exec_, count);
   inputs_.start_frame(time_);
-  const FrameKey key{*inputs, samples_.staged_rows().data()};
-  if (frame_graph_.empty() || !(key == *frame_key_)) {
+  bool captured = false;
+  FrameGraph& frame = frame_graph({*inputs, samples_.staged_rows().data()}, [&] {
     // The capture runs the substeps' host code (which takes their read-back rows) and none of their launches.
-    frame_key_.reset();
-    frame_graph_.capture(exec_, [&] {
-      for (int k = 0; k < count; ++k) run_substep(inputs_.at_in_frame(*inputs, k), k);
-    });
-    frame_key_ = key;
-    ++graph_captures_;
-  } else {
+    for (int k = 0; k < count; ++k) run_substep(inputs_.at_in_frame(*inputs, k), k);
+    captured = true;
+  });
+  if (!captured) {
+    // What the capture's host code does for a frame, done for this one.
     inputs_.claim_rows(count);
     quadrature_->count_replayed_builds(count);
   }
+  frame.last_frame = graph_frames_;
   const std::size_t stage = stages_.size() - 1;
   stage_timeline_.open();
-  frame_graph_.replay(exec_);
+  frame.graph->replay(exec_);
   stage_timeline_.close(stage);
   if (stage_launches_.size() <= stage) stage_launches_.resize(stage + 1, 0);
   ++stage_launches_[stage];
   ++graph_frames_;
   return true;
+}
+
+ReducedSim::FrameGraph& ReducedSim::frame_graph(const FrameKey& key, const std::function<void()>& capture) {
+  for (FrameGraph& kept : frame_graphs_)
+    if (kept.key == key) return kept;
+  std::vector<FrameGraph>::iterator slot = frame_graphs_.end();
+  if (frame_graphs_.size() < kKeptFrameGraphs) {
+    frame_graphs_.push_back({key, std::make_unique<StreamGraph>(), 0});
+    slot = frame_graphs_.end() - 1;
+  } else {
+    slot = std::min_element(frame_graphs_.begin(), frame_graphs_.end(),
+                            [](const FrameGraph& a, const FrameGraph& b) { return a.last_frame < b.last_frame; });
+    slot->key = key;
+  }
+  try {
+    slot->graph->capture(exec_, capture);
+  } catch (...) {
+    frame_graphs_.erase(slot);  // a refused capture leaves no graph behind
+    throw;
+  }
+  ++graph_captures_;
+  return *slot;
 }
 
 void ReducedSim::run_substep(const mpm::StepParams& step, Index staged_substep) {

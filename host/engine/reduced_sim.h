@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -226,15 +227,23 @@ class ReducedSim {
   mutable EventTimeline stage_timeline_;  // read when the table is asked for
   std::vector<std::int64_t> stage_launches_;
 
-  // The frame graph and what it was captured for: the frame's inputs and where its samples are staged.
+  // The frames' graphs and what each was captured for: the frame's inputs and where its samples are staged.
+  // A few are kept: advance_to's substep count may alternate between two values from frame to frame.
   struct FrameKey {
     StepInputs::FrameShape inputs;
     const void* samples = nullptr;
     bool operator==(const FrameKey& other) const { return inputs == other.inputs && samples == other.samples; }
   };
+  struct FrameGraph {
+    FrameKey key;
+    std::unique_ptr<StreamGraph> graph;
+    std::int64_t last_frame = 0;  // graph_frames_ when it last ran
+  };
+  static constexpr std::size_t kKeptFrameGraphs = 4;
+  // The graph for `key`, captured from `capture`'s launches when none is kept (replacing the one unused longest).
+  FrameGraph& frame_graph(const FrameKey& key, const std::function<void()>& capture);
   bool graphs_possible_ = false;
-  StreamGraph frame_graph_;
-  std::optional<FrameKey> frame_key_;
+  std::vector<FrameGraph> frame_graphs_;
   std::int64_t graph_captures_ = 0, graph_frames_ = 0;
 };
 
