@@ -54,9 +54,9 @@ class ReducedQuadrature {
 
   // Whether a build around `samples` samples runs on the device alone (no round trip: a CUDA graph can hold it).
   virtual bool builds_on_device(Index samples) const = 0;
-  // The host's account of `builds` builds that a replayed graph ran (what build() keeps on the host besides
-  // its launches).
-  virtual void count_replayed_builds(int builds) { (void)builds; }
+  // Adds `builds` builds to what build() keeps on the host besides its launches: those a replayed graph ran,
+  // or, negative, those a failed capture's host code counted but no launch ran.
+  virtual void account_builds(int builds) { (void)builds; }
 };
 
 class LagrangianQuadrature final : public ReducedQuadrature {
@@ -71,7 +71,7 @@ class LagrangianQuadrature final : public ReducedQuadrature {
   std::string describe(const mpm::FailedPoint& point) const override;
   Index last_count(const Exec&) const override { return points_.count; }
   bool builds_on_device(Index) const override { return !search_; }  // the search counts the neighbours on the host
-  void count_replayed_builds(int builds) override { points_so_far_ += std::int64_t(builds) * points_.count; }
+  void account_builds(int builds) override { points_so_far_ += std::int64_t(builds) * points_.count; }
 
   bool searches_neighbours() const { return search_; }
   // Quadrature points summed over the builds so far.

@@ -35,6 +35,10 @@ class SampleSet {
   // draw() for the frame's substep k.
   void stage_frame(const Exec& exec, Index substeps);
   void draw_staged(const Exec& exec, const ReferenceBody& reference, Index substep);
+  // Gives the last staged frame's samples back to the sequence (a failed capture ran none of them).
+  void unstage_frame(Index substeps) {
+    if (!every_point_) next_row_ -= substeps;
+  }
   // Where stage_frame put the frame's rows (empty with every point sampled).
   Span<const std::int32_t> staged_rows() const { return frame_rows_.span(); }
   // The samples each substep draws.

@@ -71,6 +71,8 @@ class StepInputs {
   void start_frame(double time);
   mpm::StepParams at_in_frame(const FrameShape& frame, int substep);
   void claim_rows(int count);
+  // Forgets the rows handed out since the last read-back (a failed capture ran none of their substeps).
+  void discard_pending_rows() { pending_rows_ = 0; }
 
   // The read-back: a row per substep since the last read_back, each holding the stages' failure slots, the
   // largest speed the substep's moved particles stored (StepParams::largest_speed, for the next CFL step)
