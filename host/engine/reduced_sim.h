@@ -80,7 +80,8 @@ struct ReducedOptions {
   // Run each frame's substeps as one CUDA graph (kernels/core/stream_graph.h) where the step allows: a build
   // with no round trip (at most mpm::SparseGrid::kFewPoints samples, no Lagrangian neighbour search, an
   // Eulerian candidate count that stays on the device, Gauss–Newton in one block) and inputs that do not
-  // change within the frame. Captured again when the frame's Δt, substep count or inputs change.
+  // change within the frame. Captured again when the frame's Δt, substep count or inputs change (the graphs
+  // of the last four are kept).
   bool frame_graphs = true;
 };
 

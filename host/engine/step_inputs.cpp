@@ -102,9 +102,7 @@ mpm::StepParams StepInputs::at(double time, float dt) {
 }
 
 bool StepInputs::FrameShape::operator==(const FrameShape& other) const {
-  return dt == other.dt && count == other.count && active.colliders == other.active.colliders &&
-         active.loads == other.active.loads && active.tractions == other.active.tractions &&
-         materials == other.materials;
+  return dt == other.dt && count == other.count && active == other.active && materials == other.materials;
 }
 
 std::optional<StepInputs::FrameShape> StepInputs::frame_shape(double time, float dt, int count) {
@@ -115,10 +113,7 @@ std::optional<StepInputs::FrameShape> StepInputs::frame_shape(double time, float
   double t = time;
   for (int k = 1; k < count; ++k) {
     t += dt;
-    const mpm::ActiveInputs active = active_at(t);
-    if (active.colliders != frame.active.colliders || active.loads != frame.active.loads ||
-        active.tractions != frame.active.tractions || strength_off_at(t) != off)
-      return std::nullopt;
+    if (active_at(t) != frame.active || strength_off_at(t) != off) return std::nullopt;
   }
   return frame;
 }
@@ -143,13 +138,8 @@ void StepInputs::claim_rows(int count) {
 
 mpm::StepParams StepInputs::params(const mpm::SubstepTime& time, float dt, const mpm::ActiveInputs& active) {
   const FullOrderConfig& config = config_;
-  const auto bits = [](std::uint64_t mask) {
-    Index count = 0;
-    for (; mask; mask &= mask - 1) ++count;
-    return count;
-  };
-  const mpm::InputTables tables{colliders_.prefix(bits(active.colliders)), dirichlet_.span(),
-                                loads_.prefix(bits(active.loads)), tractions_.span()};
+  const mpm::InputTables tables{colliders_.prefix(mpm::active_entries(active.colliders)), dirichlet_.span(),
+                                loads_.prefix(mpm::active_entries(active.loads)), tractions_.span()};
   mpm::inputs_at(exec_,
                  {collider_schedule_.span(), motion_schedule_.span(), load_schedule_.span(), traction_schedule_.span()},
                  time, dt, active, tables);

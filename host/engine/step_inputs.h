@@ -65,7 +65,6 @@ class StepInputs {
     mpm::ActiveInputs active;
     const void* materials = nullptr;
     bool operator==(const FrameShape& other) const;
-    bool operator!=(const FrameShape& other) const { return !(*this == other); }
   };
   std::optional<FrameShape> frame_shape(double time, float dt, int count);
   void start_frame(double time);

@@ -51,12 +51,6 @@ struct InputsAt {
   }
 };
 
-int bits(std::uint64_t mask) {
-  int count = 0;
-  for (; mask; mask &= mask - 1) ++count;
-  return count;
-}
-
 }  // namespace
 
 void inputs_at(const Exec& exec, const InputSchedule& schedule, const SubstepTime& time, float dt,
@@ -64,8 +58,9 @@ void inputs_at(const Exec& exec, const InputSchedule& schedule, const SubstepTim
   ROMP_CHECK(schedule.colliders.size() <= kMostScheduledInputs && schedule.loads.size() <= kMostScheduledInputs &&
                  schedule.tractions.size() <= kMostScheduledInputs,
              "inputs_at: at most 64 colliders, loads and tractions");
-  ROMP_CHECK(out.colliders.size() == bits(active.colliders) && out.loads.size() == bits(active.loads) &&
-                 out.dirichlet.size() == schedule.motions.size() && out.tractions.size() == schedule.tractions.size(),
+  ROMP_CHECK(out.colliders.size() == active_entries(active.colliders) &&
+                 out.loads.size() == active_entries(active.loads) && out.dirichlet.size() == schedule.motions.size() &&
+                 out.tractions.size() == schedule.tractions.size(),
              "inputs_at: a table entry for each active collider and load, each motion and each traction");
   const auto within = [](std::uint64_t mask, Index entries) {
     return entries == kMostScheduledInputs || (mask >> entries) == 0;

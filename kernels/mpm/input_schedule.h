@@ -32,7 +32,18 @@ struct InputSchedule {
 // Which colliders, loads and tractions act in the substep: bit i for entry i (the host knows their windows).
 struct ActiveInputs {
   std::uint64_t colliders = 0, loads = 0, tractions = 0;
+  bool operator==(const ActiveInputs& other) const {
+    return colliders == other.colliders && loads == other.loads && tractions == other.tractions;
+  }
+  bool operator!=(const ActiveInputs& other) const { return !(*this == other); }
 };
+
+// The entries a mask makes active (its set bits): the rows of their table that inputs_at fills.
+inline Index active_entries(std::uint64_t mask) {
+  Index count = 0;
+  for (; mask; mask &= mask - 1) ++count;
+  return count;
+}
 
 // The tables of the substep [time, time + dt]: the active colliders, moved to `time`, and the active loads
 // fill the front of theirs in the schedule's order (as many as `active` has bits); every Dirichlet motion
