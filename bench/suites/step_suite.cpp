@@ -89,7 +89,7 @@ void run_step_suite(Context& context) {
           // grid nodes per particle, which a grid kept between sorts widens.
           context.record(where + ".sorts_per_substep", double(sim.sort_statistics().sorts) / double(sim.steps()));
           context.record(where + ".early_sorts", double(sim.sort_statistics().early_sorts));
-          context.record(where + ".grid_nodes_per_particle", double(sim.grid().active_nodes()) / double(n));
+          context.record(where + ".grid_nodes_per_particle", double(sim.grid().counted_nodes(exec)) / double(n));
           // Where a substep goes, over warm-up and timed repeats together.
           double total = 0.0;
           for (const auto& [stage, seconds] : sim.stage_seconds()) total += seconds;

@@ -29,7 +29,7 @@ struct UpdateGrid {
 }  // namespace
 
 void update_grid(const Exec& exec, const GridView& grid, const StepParams& step) {
-  for_each(exec, grid.blocks * kNodesPerBlock, UpdateGrid{grid, step});
+  for_each_bounded(exec, grid.blocks * kNodesPerBlock, grid.live_nodes(), UpdateGrid{grid, step});
 }
 
 }  // namespace romp::mpm

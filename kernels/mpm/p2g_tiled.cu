@@ -102,8 +102,9 @@ struct TiledBlockToGrid {
   Span<const std::int32_t> starts;
   Span<const std::uint64_t> sorted_keys;
   void operator()(Index block) const {
-    float tile[kTilePlanes * kTileNodes] = {};
     const Index begin = starts[block], end = starts[block + 1];
+    if (begin == end) return;  // past the runs (ParticleSet::RunCount::OnDevice)
+    float tile[kTilePlanes * kTileNodes] = {};
     int origin[3];
     tile_origin(sorted_keys[begin], origin);
     for (Index p = begin; p < end; ++p)
@@ -133,9 +134,10 @@ constexpr int kTiledThreads = 128;
 // CUDA: one thread block per grid block; its threads share the tile in shared memory.
 __global__ void tiled_block_to_grid(ParticleView particles, GridView grid, StepParams step,
                                     Span<const std::int32_t> starts, Span<const std::uint64_t> sorted_keys) {
+  const Index begin = starts[blockIdx.x], end = starts[blockIdx.x + 1];
+  if (begin == end) return;  // past the runs (ParticleSet::RunCount::OnDevice): the whole thread block leaves
   __shared__ float tile[kTilePlanes * kTileNodes];
   for (int t = threadIdx.x; t < kTilePlanes * kTileNodes; t += blockDim.x) tile[t] = 0.0f;
-  const Index begin = starts[blockIdx.x], end = starts[blockIdx.x + 1];
   int origin[3];
   tile_origin(sorted_keys[begin], origin);
   __syncthreads();
@@ -156,8 +158,8 @@ void particle_to_grid_tiled(const Exec& exec, const ParticleView& particles, con
   ROMP_CHECK(blocks >= 0, "block_starts needs the particle count at its end");
   ROMP_CHECK(sorted_keys.size() == particles.count, "the sort's block key of every particle");
   if (blocks == 0) return;
-  memory::note_launch();
   if (exec.is_cuda()) {
+    memory::note_launch();
 #if defined(__CUDACC__)
     tiled_block_to_grid<<<unsigned(blocks), kTiledThreads, 0, exec.stream>>>(particles, grid, step, block_starts,
                                                                              sorted_keys);
@@ -168,10 +170,12 @@ void particle_to_grid_tiled(const Exec& exec, const ParticleView& particles, con
   } else {
     const int threads = romp::detail::cpu_threads(exec);
     const TiledBlockToGrid run{particles, grid, step, block_starts, sorted_keys};
-    const memory::DeviceAccess launch;
-    // Blocks hold very different particle counts: hand them out a few at a time.
+    memory::launch_on_cpu(exec.stream, 1, [run, threads, blocks] {
+      const memory::DeviceAccess launch;
+      // Blocks hold very different particle counts: hand them out a few at a time.
 #pragma omp parallel for schedule(dynamic, 4) num_threads(threads)
-    for (Index block = 0; block < blocks; ++block) run(block);
+      for (Index block = 0; block < blocks; ++block) run(block);
+    });
   }
   if (!sorted_at_these_positions)
     for_each(exec, particles.count, MovedParticleToGrid{particles, grid, step, sorted_keys});

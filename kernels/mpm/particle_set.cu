@@ -91,51 +91,56 @@ void* temporary_storage(BlockSortScratch& scratch, Backend backend, std::size_t 
 }
 #endif
 
-// The start of every run of equal keys in sorted scratch.keys and n at the end, into `starts` (n + 1
-// entries suffice); returns the number of runs.
-Index run_starts(const Exec& exec, BlockSortScratch& scratch, DeviceBuffer<std::int32_t>& starts) {
+// Zeroes the run lengths past the runs Encode found (what it leaves there is not specified), so that their
+// sum stops growing at n.
+struct ZeroPastRuns {
+  Span<std::int32_t> lengths;
+  Span<const std::int64_t> runs;
+  ROMP_HD void operator()(Index i) const {
+    if (i >= runs[0]) lengths[i] = 0;
+  }
+};
+
+// Into `starts` (n + 1 entries): the start of every run of equal keys in sorted scratch.keys, then n in every
+// entry past the runs (runs past the count are empty); into scratch.run_count, on the device, their number.
+void find_runs(const Exec& exec, BlockSortScratch& scratch, DeviceBuffer<std::int32_t>& starts) {
   const DeviceBuffer<std::uint64_t>& keys = scratch.keys;
   const Index n = keys.size();
+  const Backend backend = keys.backend();
+  DeviceBuffer<std::int64_t>& runs = sized(scratch.run_count, backend, 1);
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
-    // Run lengths, then their exclusive sum over all n slots: entry `runs` is then Σ lengths = n.
-    const Backend backend = keys.backend();
+    // Run lengths, then their exclusive sum over all n + 1 slots: entry `runs` and every later one is then n.
     DeviceBuffer<std::uint64_t>& unique = sized(scratch.unique_keys, backend, n);
     DeviceBuffer<std::int32_t>& lengths = sized(scratch.run_lengths, backend, n + 1);
-    DeviceBuffer<std::int32_t>& runs = sized(scratch.run_count, backend, 1);
-    lengths.fill_zero(exec.stream);
-    memory::note_launch(2);  // Encode and the scan (the memsets count themselves)
+    memory::note_launch(2);  // Encode and the scan (ZeroPastRuns counts itself)
     std::size_t bytes = 0;
     ROMP_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(nullptr, bytes, keys.data(), unique.data(), lengths.data(),
                                                        runs.data(), int(n), exec.stream));
     ROMP_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(temporary_storage(scratch, backend, bytes), bytes, keys.data(),
                                                        unique.data(), lengths.data(), runs.data(), int(n),
                                                        exec.stream));
-    const Index count = runs.to_host(exec.stream)[0];
-    // Entries past the runs hold whatever Encode left there: zero them so the sum stops growing at n.
-    memory::fill_zero(lengths.data() + count, backend, std::size_t(n + 1 - count) * sizeof(std::int32_t), exec.stream);
+    for_each(exec, n + 1, ZeroPastRuns{lengths.span(), runs.span()});
     bytes = 0;
     ROMP_CUDA_CHECK(
         cub::DeviceScan::ExclusiveSum(nullptr, bytes, lengths.data(), starts.data(), int(n + 1), exec.stream));
     ROMP_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(temporary_storage(scratch, backend, bytes), bytes, lengths.data(),
                                                   starts.data(), int(n + 1), exec.stream));
-    return count;
+    return;
 #else
-    throw Error("run_starts on CUDA from a translation unit not compiled by nvcc");
+    throw Error("find_runs on CUDA from a translation unit not compiled by nvcc");
 #endif
   }
-  DeviceBuffer<std::int32_t>& runs = sized(scratch.run_count, keys.backend(), 1);
-  {
-    const memory::DeviceAccess launch;  // the CPU's stand-in for DeviceRunLengthEncode and the scan
-    memory::note_launch(4);             // as CUDA's: two memsets, Encode and the scan
+  // The CPU's stand-in for Encode, ZeroPastRuns and the scan, counted as their launches.
+  memory::launch_on_cpu(exec.stream, 3, [keys = keys.span(), starts = starts.span(), runs = runs.span()] {
+    const memory::DeviceAccess launch;
+    const Index n = keys.size();
     std::int32_t count = 0;
     for (Index p = 0; p < n; ++p)
-      if (p == 0 || keys.data()[p] != keys.data()[p - 1]) starts.data()[count++] = std::int32_t(p);
-    starts.data()[count] = std::int32_t(n);
-    runs.data()[0] = count;
-  }
-  // The count comes back as on the device, so host traffic counted on the CPU is the GPU's.
-  return runs.to_host(exec.stream)[0];
+      if (p == 0 || keys[p] != keys[p - 1]) starts[count++] = std::int32_t(p);
+    std::fill(starts.data() + count, starts.data() + n + 1, std::int32_t(n));
+    runs[0] = count;
+  });
 }
 
 // Sorts scratch.order by scratch.keys, and on CUDA the keys with it (the CPU sort orders `order` alone).
@@ -143,9 +148,9 @@ void sort_pairs(const Exec& exec, BlockSortScratch& scratch, Span<const std::int
   DeviceBuffer<std::uint64_t>& keys = scratch.keys;
   DeviceBuffer<std::int32_t>& order = scratch.order;
   const Index n = keys.size();
-  memory::note_launch();  // DeviceRadixSort, or the CPU's stand-in
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
+    memory::note_launch();  // DeviceRadixSort
     const Backend backend = keys.backend();
     DeviceBuffer<std::uint64_t>& keys_out = sized(scratch.sorted_keys, backend, n);
     DeviceBuffer<std::int32_t>& order_out = sized(scratch.sorted_order, backend, n);
@@ -166,11 +171,11 @@ void sort_pairs(const Exec& exec, BlockSortScratch& scratch, Span<const std::int
   }
   // CPU: ties broken by the initial index (unique), so the permutation does not depend on the order
   // the particles arrived in.
-  const memory::DeviceAccess launch;  // the CPU's stand-in for the device sort
-  const std::uint64_t* k = keys.data();
-  const std::int32_t* initial = id.data();
-  std::sort(order.data(), order.data() + n, [k, initial](std::int32_t a, std::int32_t b) {
-    return k[a] < k[b] || (k[a] == k[b] && initial[a] < initial[b]);
+  memory::launch_on_cpu(exec.stream, 1, [k = keys.span(), initial = id, order = order.span()] {
+    const memory::DeviceAccess launch;  // the CPU's stand-in for the device sort
+    std::sort(order.begin(), order.end(), [k, initial](std::int32_t a, std::int32_t b) {
+      return k[a] < k[b] || (k[a] == k[b] && initial[a] < initial[b]);
+    });
   });
 }
 
@@ -241,7 +246,7 @@ ParticleView ParticleSet::view() {
 
 std::size_t ParticleSet::bytes() const { return reals_.bytes() + integers_.bytes(); }
 
-void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
+void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx, RunCount run_count) {
   const Index n = count_;
   BlockSortScratch& scratch = sort_scratch_;
   DeviceBuffer<std::uint64_t>& keys = sized(scratch.keys, backend_, n);
@@ -251,7 +256,8 @@ void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
   sort_pairs(exec, scratch, integers(kId));
   if (!exec.is_cuda()) permute(exec, keys, 1, order.span(), scratch.sorted_keys);  // the CPU sort orders `order` alone
   if (block_starts_.size() < n + 1) block_starts_ = DeviceBuffer<std::int32_t>(backend_, n + 1);
-  block_count_ = run_starts(exec, scratch, block_starts_);
+  find_runs(exec, scratch, block_starts_);
+  block_bound_ = run_count == RunCount::ReadBack ? Index(scratch.run_count.to_host(exec.stream)[0]) : n;
   const Span<const std::int32_t> by_block = order.span();
   DeviceBuffer<float>& reals = sized(scratch.reals, backend_, reals_.size());
   DeviceBuffer<std::int32_t>& integers = sized(scratch.integers, backend_, integers_.size());
@@ -259,8 +265,27 @@ void ParticleSet::sort_by_block(const Exec& exec, float inverse_dx) {
            GatherParticle{
                GatherPlanes<float>{reals_.span(), n, reals.span(), by_block, int(reals_.size() / n)},
                GatherPlanes<std::int32_t>{integers_.span(), n, integers.span(), by_block, int(integers_.size() / n)}});
-  std::swap(reals_, reals);
-  std::swap(integers_, integers);
+  if (run_count == RunCount::OnDevice) {
+    memory::copy(reals_.data(), backend_, reals.data(), backend_, reals.bytes(), exec.stream);
+    memory::copy(integers_.data(), backend_, integers.data(), backend_, integers.bytes(), exec.stream);
+  } else {
+    std::swap(reals_, reals);
+    std::swap(integers_, integers);
+  }
+}
+
+void ParticleSet::save(const Exec& exec, Snapshot& snapshot) const {
+  memory::copy(sized(snapshot.reals, backend_, reals_.size()).data(), backend_, reals_.data(), backend_, reals_.bytes(),
+               exec.stream);
+  memory::copy(sized(snapshot.integers, backend_, integers_.size()).data(), backend_, integers_.data(), backend_,
+               integers_.bytes(), exec.stream);
+}
+
+void ParticleSet::restore(const Exec& exec, const Snapshot& snapshot) {
+  ROMP_CHECK(snapshot.reals.size() == reals_.size() && snapshot.integers.size() == integers_.size(),
+             "ParticleSet::restore: a snapshot of this particle set (save it first)");
+  memory::copy(reals_.data(), backend_, snapshot.reals.data(), backend_, reals_.bytes(), exec.stream);
+  memory::copy(integers_.data(), backend_, snapshot.integers.data(), backend_, integers_.bytes(), exec.stream);
 }
 
 void ParticleSet::release_dirichlet_group(const Exec& exec, std::int32_t group) {

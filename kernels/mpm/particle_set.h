@@ -60,7 +60,8 @@ struct ParticleInit {
 // spares of their two allocations in one launch, and the two swap.
 struct BlockSortScratch {
   DeviceBuffer<std::uint64_t> keys, sorted_keys, unique_keys;
-  DeviceBuffer<std::int32_t> order, sorted_order, run_lengths, run_count;
+  DeviceBuffer<std::int32_t> order, sorted_order, run_lengths;
+  DeviceBuffer<std::int64_t> run_count;
   DeviceBuffer<unsigned char> temporary;  // CUB's
   DeviceBuffer<float> reals;
   DeviceBuffer<std::int32_t> integers;
@@ -75,18 +76,35 @@ class ParticleSet {
   Backend backend() const { return backend_; }
   std::size_t bytes() const;
 
+  // How sort_by_block learns how many runs of particles (blocks) it found: read back, so that the launches
+  // over the runs are sized to them, or left on the device, so that the sort makes no round trip (a CUDA graph
+  // can hold it) and those launches run over the particle count, a bound, whose runs past the count are empty.
+  // With the count on the device the sorted particles are also copied back into the buffers they came from
+  // (two device copies) rather than swapped with the sort's: a graph of substeps that sort then ends with the
+  // particles where it found them, ready for its next replay.
+  enum class RunCount { ReadBack, OnDevice };
   // Reorders the particles by the grid block that holds their stencil's base node, so neighbours in
   // memory are neighbours in space. CUDA: a stable radix sort on the block key. CPU: by block, then
   // by initial index, so the order is a function of the positions alone and a run resumed from a
   // checkpoint sums particle contributions in the same order as the uninterrupted run.
-  void sort_by_block(const Exec& exec, float inverse_dx);
-  // After sort_by_block: where each block's run of particles starts, and the particle count at the
-  // end (blocks + 1 entries, increasing). The tiled P2G gives each run to one worker.
+  void sort_by_block(const Exec& exec, float inverse_dx, RunCount run_count = RunCount::ReadBack);
+  // After sort_by_block: where each block's run of particles starts, then the particle count (runs + 1
+  // entries, non-decreasing; with RunCount::OnDevice, n + 1 entries, those past the runs equal to n, i.e. empty
+  // runs). The tiled P2G gives each run to one worker.
   Span<const std::int32_t> block_starts() const {
-    return Span<const std::int32_t>(block_starts_.data(), block_count_ + 1);
+    return Span<const std::int32_t>(block_starts_.data(), block_bound_ + 1);
   }
   // After sort_by_block: each particle's block key as that sort found it (increasing), until the next sort.
   Span<const std::uint64_t> sorted_block_keys() const { return sort_scratch_.keys.prefix(count_); }
+
+  // A copy of the particle state, to go back to (FullOrderSim's batches of substeps roll back to their start when
+  // a substep broke the CFL step they were planned with). Sized by the first save; two device copies after.
+  struct Snapshot {
+    DeviceBuffer<float> reals;
+    DeviceBuffer<std::int32_t> integers;
+  };
+  void save(const Exec& exec, Snapshot& snapshot) const;
+  void restore(const Exec& exec, const Snapshot& snapshot);
 
   // The particles of Dirichlet group `group` move freely from now on.
   void release_dirichlet_group(const Exec& exec, std::int32_t group);
@@ -140,7 +158,7 @@ class ParticleSet {
   DeviceBuffer<std::int32_t> integers_;
   int domain_plane_ = -1, traction_plane_ = -1;  // their integer planes, or -1 when absent
   DeviceBuffer<std::int32_t> block_starts_;
-  Index block_count_ = 0;
+  Index block_bound_ = 0;  // the runs the last sort found, or the particle count where they stayed on the device
   BlockSortScratch sort_scratch_;
 };
 

@@ -46,6 +46,7 @@ struct ActivateBlocksAround {
   BlockTableView table;
 
   ROMP_HD void operator()(Index run) const {
+    if (block_starts[run] == block_starts[run + 1]) return;  // past the runs (ParticleSet::RunCount::OnDevice)
     const std::uint64_t key = sorted_keys[block_starts[run]];
     int low[3], high[3];
     for (int a = 0; a < 3; ++a) {
@@ -78,7 +79,7 @@ Index next_power_of_two(Index n) {
 SparseGrid::SparseGrid(Backend backend, float dx, bool keep_old_velocity)
     : backend_(backend), dx_(dx), keep_old_velocity_(keep_old_velocity) {
   ROMP_CHECK(dx > 0.0f, "grid spacing must be positive");
-  counters_ = DeviceBuffer<std::int32_t>(backend_, 2);
+  counters_ = DeviceBuffer<std::int64_t>(backend_, 3);
   allocate(kInitialBlocks);
 }
 
@@ -144,17 +145,22 @@ void SparseGrid::activate_blocks(const Exec& exec, const std::function<void(cons
     keys_.fill_zero(exec.stream);
     counters_.fill_zero(exec.stream);
     activate(view().table);
-    const std::vector<std::int32_t> counters = counters_.to_host(exec.stream);
+    const std::vector<std::int64_t> counters = counters_.to_host(exec.stream);
     if (counters[1] == 0 && counters[0] <= max_blocks_) {
       blocks_ = counters[0];
       break;
     }
-    allocate(std::max<Index>(2 * max_blocks_, 2 * Index(counters[0])));
+    allocate(std::max<Index>(2 * max_blocks_, 2 * counters[0]));
   }
   clear_nodes(exec);
 }
 
-void SparseGrid::clear_nodes(const Exec& exec) { for_each(exec, active_nodes(), ClearNode{view()}); }
+void SparseGrid::clear_nodes(const Exec& exec) {
+  const GridView grid = view();
+  for_each_bounded(exec, active_nodes(), grid.live_nodes(), ClearNode{grid});
+}
+
+Index SparseGrid::counted_nodes(const Exec& exec) const { return Index(counters_.to_host(exec.stream)[2]); }
 
 std::size_t SparseGrid::bytes() const {
   return keys_.bytes() + slot_block_.bytes() + block_keys_.bytes() + counters_.bytes() + mass_.bytes() +

@@ -72,8 +72,10 @@ struct BlockTableView {
   Span<std::uint64_t> keys;        // capacity slots, kEmptyKey where free
   Span<std::int32_t> slot_block;   // block index stored in each filled slot
   Span<std::uint64_t> block_keys;  // key of each block index (max_blocks)
-  Span<std::int32_t> counters;     // [0] blocks handed out, [1] set when an insert found no room
-  std::uint64_t mask = 0;          // capacity - 1 (capacity is a power of two)
+  // [0] blocks handed out, [1] set when an insert found no room, [2] the nodes of the blocks handed out (what
+  // the CPU's node loops read: for_each_bounded).
+  Span<std::int64_t> counters;
+  std::uint64_t mask = 0;  // capacity - 1 (capacity is a power of two)
 
   // Inserts `key` if absent. Safe to call concurrently; never blocks on a full table.
   ROMP_HD void insert(std::uint64_t key) const {
@@ -81,9 +83,10 @@ struct BlockTableView {
     for (std::uint64_t probe = 0; probe <= mask; ++probe) {
       const std::uint64_t seen = atomic_cas(&keys[Index(slot)], kEmptyKey, key);
       if (seen == kEmptyKey) {
-        const std::int32_t block = atomic_add(&counters[0], std::int32_t(1));
+        const std::int64_t block = atomic_add(&counters[0], std::int64_t(1));
+        atomic_add(&counters[2], std::int64_t(kNodesPerBlock));
         if (block < block_keys.size()) block_keys[block] = key;
-        slot_block[Index(slot)] = block;
+        slot_block[Index(slot)] = std::int32_t(block);
         return;
       }
       if (seen == key) return;
@@ -119,7 +122,10 @@ struct GridView {
   float inverse_dx = 0.0f;
 
   // Whether node n lies in an active block, by the device's count of them.
-  ROMP_HD bool holds_node(Index n) const { return n < Index(table.counters[0]) * kNodesPerBlock; }
+  ROMP_HD bool holds_node(Index n) const { return n < Index(table.counters[2]); }
+  // The nodes of the active blocks, on the device: node kernels run for_each_bounded over blocks' nodes with it,
+  // so that the CPU loops over the live nodes alone where `blocks` is a bound.
+  Span<const std::int64_t> live_nodes() const { return table.counters.subspan(2, 1); }
   // Whether transfers also record the velocity before forces (for FLIP, of particles or of domain corners).
   ROMP_HD bool keeps_old_velocity() const { return velocity_old.data() != nullptr; }
 };
@@ -152,6 +158,8 @@ class SparseGrid {
   // After rebuild_for_few_points, upper bounds (the count is on the device).
   Index active_blocks() const { return blocks_; }
   Index active_nodes() const { return blocks_ * kNodesPerBlock; }
+  // The active blocks' nodes as the device counted them: a download.
+  Index counted_nodes(const Exec& exec) const;
   // Bytes held by the table and node arrays (for memory-per-particle reports).
   std::size_t bytes() const;
 
@@ -169,7 +177,7 @@ class SparseGrid {
   DeviceBuffer<std::uint64_t> keys_;
   DeviceBuffer<std::int32_t> slot_block_;
   DeviceBuffer<std::uint64_t> block_keys_;
-  DeviceBuffer<std::int32_t> counters_;
+  DeviceBuffer<std::int64_t> counters_;
   DeviceBuffer<float> mass_;
   DeviceBuffer<float> velocity_;
   DeviceBuffer<float> velocity_old_;

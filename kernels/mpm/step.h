@@ -82,7 +82,7 @@ inline constexpr std::int64_t kNoFailure = INT64_MAX;
 
 struct StepParams {
   float dt = 0.0f;
-  Vec3<float> gravity;
+  Vec3<float> gravity = Vec3<float>::zero();
   Transfer transfer = Transfer::Apic;
   float flip_alpha = 0.95f;    // FLIP share of the PIC/FLIP blend
   Domain domain;               // the box, its wall bands and their contact

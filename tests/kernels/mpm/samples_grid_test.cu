@@ -1,6 +1,7 @@
 // The grid of a reduced substep: built from a few samples without reading its block count back, P2G from
 // other points adding only into its blocks, and the node kernels skipping storage the device did not hand
-// out. The samples' nodes must come out as on a grid built from every point.
+// out. The samples' nodes must come out as on a grid built from every point. And a full-order substep of few
+// particles, whose sort leaves its count of runs on the device as well.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -112,9 +113,10 @@ TEST(SparseGrid, FewPointsGridHoldsTheirBlocksWithoutReadingItsCountBack) {
   EXPECT_EQ(after.allocations, before.allocations);
   // The node kernels' bound covers the blocks; the device's count is exactly the counted rebuild's.
   EXPECT_GE(few.active_blocks(), counted.active_blocks());
-  const std::vector<std::int32_t> counters = download(exec.backend, few.view().table.counters, exec.stream);
+  const std::vector<std::int64_t> counters = download(exec.backend, few.view().table.counters, exec.stream);
   EXPECT_EQ(counters[0], counted.active_blocks());
   EXPECT_EQ(counters[1], 0);
+  EXPECT_EQ(counters[2], counted.active_nodes());
 
   const DeviceBuffer<float> too_many(exec.backend, 3 * (SparseGrid::kFewPoints + 1));
   EXPECT_THROW(few.rebuild_for_few_points(exec, Vec3Planes<const float>(too_many.data(), SparseGrid::kFewPoints + 1)),
@@ -162,6 +164,58 @@ TEST(ParticleToGridActiveNodes, GivesTheSamplesNodesWhatTheFullGridGives) {
   ASSERT_GT(largest, 0.0f);
   // The same shares added in another order (atomics): rounding only.
   for (std::size_t i = 0; i < got.size(); ++i) ASSERT_NEAR(got[i], expected[i], 1e-5f * largest) << "value " << i;
+}
+
+// A full-order substep with few particles leaves its counts on the device (FullOrderSim::counts_on_device): the
+// sort keeps its count of runs there and hands out the particle count of runs, those past its count empty, and
+// the grid is the few-points one. The tiled P2G and the grid update over them give every particle's stencil
+// nodes what the counts read back give, with no download.
+TEST(ParticleToGridTiled, RunsCountedOnTheDeviceGiveWhatRunsReadBackGive) {
+  const Exec& exec = test::exec();
+  const Index n = 700;
+  const std::vector<float> x = test::random_planes(n, 0.2f, 0.7f, 31);
+  std::vector<std::vector<std::int32_t>> starts;
+  std::vector<std::vector<float>> nodes;
+  for (const ParticleSet::RunCount count : {ParticleSet::RunCount::ReadBack, ParticleSet::RunCount::OnDevice}) {
+    const bool on_device = count == ParticleSet::RunCount::OnDevice;
+    ParticleSet particles(exec.backend, moving_particles(x));
+    SparseGrid grid(exec.backend, kDx, false);
+    Step step;
+    auto transfer = [&] {
+      particles.sort_by_block(exec, 1.0f / kDx, count);
+      const Vec3Planes<const float> positions(particles.view().x);
+      if (on_device)
+        grid.rebuild_for_few_points(exec, positions);
+      else
+        grid.rebuild(exec, positions);
+      particle_to_grid_tiled(exec, particles.view(), grid.view(), step.params, particles.block_starts(),
+                             particles.sorted_block_keys(), true);
+      update_grid(exec, grid.view(), step.params);
+    };
+    transfer();  // sizes the buffers
+    const memory::Traffic before = memory::traffic();
+    transfer();
+    const memory::Traffic after = memory::traffic();
+    EXPECT_EQ(after.downloads - before.downloads, on_device ? 0 : 2) << "the sort's count and the grid's";
+    EXPECT_EQ(after.allocations, before.allocations);
+    starts.push_back(download(exec.backend, particles.block_starts(), exec.stream));
+    DeviceBuffer<float> sorted_x(exec.backend, 3 * n);
+    memory::copy(sorted_x.data(), exec.backend, particles.view().x.data(), exec.backend, 3 * n * sizeof(float),
+                 exec.stream);
+    nodes.push_back(samples_nodes(grid.view(), sorted_x, n));
+    EXPECT_EQ(step.failures.to_host(), std::vector<std::int64_t>(kStageCount, kNoFailure));
+  }
+  // The runs read back, then empty runs up to the particle count.
+  const std::size_t runs = starts[0].size() - 1;
+  ASSERT_GT(runs, 10u);
+  ASSERT_EQ(starts[1].size(), std::size_t(n + 1));
+  for (std::size_t r = 0; r <= std::size_t(n); ++r)
+    ASSERT_EQ(starts[1][r], r <= runs ? starts[0][r] : std::int32_t(n)) << "run " << r;
+  // The same shares added in another order where the CPU's tiles flush from several threads: rounding only.
+  float largest = 0.0f;
+  for (const float value : nodes[0]) largest = std::max(largest, std::fabs(value));
+  ASSERT_GT(largest, 0.0f);
+  for (std::size_t i = 0; i < nodes[0].size(); ++i) ASSERT_NEAR(nodes[1][i], nodes[0][i], 1e-5f * largest) << i;
 }
 
 }  // namespace
