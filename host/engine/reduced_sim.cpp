@@ -176,9 +176,9 @@ bool ReducedSim::run_frame_graph(float dt, int count) {
   samples_.stage_frame(exec_, count);
   inputs_.start_frame(time_);
   int captured = -1;  // the substeps a capture ran the host code of; -1: none captured
-  FrameGraph* frame = nullptr;
+  const StreamGraph* frame = nullptr;
   try {
-    frame = &frame_graph({*inputs, samples_.staged_rows().data()}, [&] {
+    frame = &frame_graphs_.get(exec_, {*inputs, samples_.staged_rows().data()}, [&] {
       // The capture runs the substeps' host code (which takes their read-back rows) and none of their launches.
       for (captured = 0; captured < count; ++captured) run_substep(inputs_.at_in_frame(*inputs, captured), captured);
     });
@@ -198,37 +198,14 @@ bool ReducedSim::run_frame_graph(float dt, int count) {
     inputs_.claim_rows(count);
     quadrature_->account_builds(count);
   }
-  frame->last_frame = graph_frames_;
   const std::size_t stage = stages_.size() - 1;
   stage_timeline_.open();
-  frame->graph->replay(exec_);
+  frame->replay(exec_);
   stage_timeline_.close(stage);
   if (stage_launches_.size() <= stage) stage_launches_.resize(stage + 1, 0);
   ++stage_launches_[stage];
   ++graph_frames_;
   return true;
-}
-
-ReducedSim::FrameGraph& ReducedSim::frame_graph(const FrameKey& key, const std::function<void()>& capture) {
-  for (FrameGraph& kept : frame_graphs_)
-    if (kept.key == key) return kept;
-  std::vector<FrameGraph>::iterator slot = frame_graphs_.end();
-  if (frame_graphs_.size() < kKeptFrameGraphs) {
-    frame_graphs_.push_back({key, std::make_unique<StreamGraph>(), 0});
-    slot = frame_graphs_.end() - 1;
-  } else {
-    slot = std::min_element(frame_graphs_.begin(), frame_graphs_.end(),
-                            [](const FrameGraph& a, const FrameGraph& b) { return a.last_frame < b.last_frame; });
-    slot->key = key;
-  }
-  try {
-    slot->graph->capture(exec_, capture);
-  } catch (...) {
-    frame_graphs_.erase(slot);  // a refused capture leaves no graph behind
-    throw;
-  }
-  ++graph_captures_;
-  return *slot;
 }
 
 void ReducedSim::run_substep(const mpm::StepParams& step, Index staged_substep) {

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "host/engine/deformation_map.h"
+#include "host/engine/kept_graphs.h"
 #include "host/engine/latent_projection.h"
 #include "host/engine/quadrature_points.h"
 #include "host/engine/reduced_quadrature.h"
@@ -168,7 +169,7 @@ class ReducedSim {
   // Whether frames run as graphs (ReducedOptions::frame_graphs and the step allows it), how many graphs were
   // captured, and how many frames ran as one.
   bool runs_frame_graphs() const { return graphs_possible_; }
-  std::int64_t graph_captures() const { return graph_captures_; }
+  std::int64_t graph_captures() const { return frame_graphs_.captures(); }
   std::int64_t graph_frames() const { return graph_frames_; }
 
  private:
@@ -235,17 +236,10 @@ class ReducedSim {
     const void* samples = nullptr;
     bool operator==(const FrameKey& other) const { return inputs == other.inputs && samples == other.samples; }
   };
-  struct FrameGraph {
-    FrameKey key;
-    std::unique_ptr<StreamGraph> graph;
-    std::int64_t last_frame = 0;  // graph_frames_ when it last ran
-  };
   static constexpr std::size_t kKeptFrameGraphs = 4;
-  // The graph for `key`, captured from `capture`'s launches when none is kept (replacing the one unused longest).
-  FrameGraph& frame_graph(const FrameKey& key, const std::function<void()>& capture);
   bool graphs_possible_ = false;
-  std::vector<FrameGraph> frame_graphs_;
-  std::int64_t graph_captures_ = 0, graph_frames_ = 0;
+  KeptGraphs<FrameKey> frame_graphs_{kKeptFrameGraphs};
+  std::int64_t graph_frames_ = 0;
 };
 
 }  // namespace romp::engine

@@ -19,6 +19,7 @@
 #include "kernels/mpm/bspline.h"
 #include "tests/host/mpm_test_scenes.h"
 #include "tests/host/rom_test_maps.h"
+#include "tests/support/replay_match.h"
 #include "tests/support/test_exec.h"
 
 namespace romp {
@@ -297,15 +298,6 @@ engine::ReducedSim pushed_cube(engine::RomQuadrature quadrature, engine::RomProj
 }
 
 // Bit for bit on one CPU thread; on CUDA the grid's float atomics sum in any order, so to rounding there.
-void expect_same_state(const std::vector<float>& graphs, const std::vector<float>& eager) {
-  if (!test::exec().is_cuda()) {
-    EXPECT_EQ(graphs, eager);
-    return;
-  }
-  ASSERT_EQ(graphs.size(), eager.size());
-  for (std::size_t j = 0; j < eager.size(); ++j) EXPECT_NEAR(graphs[j], eager[j], 1e-5f * (1.0f + std::fabs(eager[j])));
-}
-
 TEST(ReducedSim, FramesReplayedAsGraphsMatchFramesRunSubstepBySubstep) {
   for (const engine::RomQuadrature quadrature : {engine::RomQuadrature::Lagrangian, engine::RomQuadrature::Eulerian})
     for (const engine::RomProjection projection :
@@ -321,8 +313,8 @@ TEST(ReducedSim, FramesReplayedAsGraphsMatchFramesRunSubstepBySubstep) {
       // Frame 1 runs eagerly (it sizes the buffers), 2 is captured, 3 sees the floor leave, 4 is captured anew.
       EXPECT_EQ(graphs.graph_captures(), 2);
       EXPECT_EQ(graphs.graph_frames(), 2);
-      expect_same_state(graphs.xhat(), eager.xhat());
-      expect_same_state(graphs.vhat(), eager.vhat());
+      test::expect_replay_matches(graphs.xhat(), eager.xhat());
+      test::expect_replay_matches(graphs.vhat(), eager.vhat());
       EXPECT_GT(graphs.vhat()[1], 0.5f);  // the floor threw the cube up
       graphs.substeps(0.5f * kDt, 6);
       eager.substeps(0.5f * kDt, 6);
@@ -330,8 +322,8 @@ TEST(ReducedSim, FramesReplayedAsGraphsMatchFramesRunSubstepBySubstep) {
       graphs.substeps(kDt, 6);  // the graph of the Δt before was kept
       eager.substeps(kDt, 6);
       EXPECT_EQ(graphs.graph_captures(), 3);
-      expect_same_state(graphs.xhat(), eager.xhat());
-      expect_same_state(graphs.vhat(), eager.vhat());
+      test::expect_replay_matches(graphs.xhat(), eager.xhat());
+      test::expect_replay_matches(graphs.vhat(), eager.vhat());
       EXPECT_EQ(graphs.time(), eager.time());
       EXPECT_EQ(graphs.steps(), eager.steps());
       const auto launches = graphs.stage_launches();
