@@ -54,6 +54,7 @@ int run_command(DeviceChoice choice, int threads, RunCommandOptions options) {
     options.run.make_reduced = [reduced = options.reduced](const Exec& exec, const scene::SceneSetup& setup) {
       return run::make_reduced_simulation(reduced, exec, setup);
     };
+  options.run.frame_graphs = !options.reduced.no_frame_graphs;
   const Exec exec = select_backend(choice, threads);
   const run::RunResult r = run::run_scene(exec, scene, options.run);
   if (r.interrupted) {

@@ -10,13 +10,16 @@
 #include <vector>
 
 #include "host/engine/implicit_grid_solver.h"
+#include "host/engine/kept_graphs.h"
 #include "host/engine/sim_config.h"
+#include "host/engine/stage_clock.h"
 #include "host/engine/step_inputs.h"
 #include "host/engine/tracer_set.h"
 #include "kernels/core/device_buffer.h"
 #include "kernels/core/error.h"
 #include "kernels/core/event_timeline.h"
 #include "kernels/core/exec.h"
+#include "kernels/core/stream_graph.h"
 #include "kernels/mpm/particle_domains.h"
 #include "kernels/mpm/particle_set.h"
 #include "kernels/mpm/sparse_grid.h"
@@ -52,11 +55,19 @@ class FullOrderSim {
 
   // The Δt the CFL condition allows now (or the fixed Δt).
   float stable_dt();
-  // One substep of length dt.
+  // One substep of length dt, read back after it (one download).
   void substep(float dt);
-  // Substeps until time() reaches t (the last substep is shortened to land on t), or until `stop`, asked
-  // before each substep, answers true; returns whether time() reached t.
+  // Substeps until time() reaches t, or until `stop` answers true; returns whether time() reached t.
+  // Substep by substep (each with the CFL step of the speed the one before left, the last shortened to land on
+  // t, `stop` asked before each), or, where runs_batches(), in batches: substeps of one length planned for the
+  // speed now (with a quarter more and what gravity adds over a batch), at most kMostSubstepsPerBatch a batch,
+  // read back once after it (one download), and, from the second batch on where the batch's inputs do not
+  // change within it, replayed as one CUDA graph (FullOrderConfig::frame_graphs); `stop` is asked before each
+  // batch. A batch in which a substep's speed outran the step it was planned with (a collider struck, say) or a
+  // stage failed goes back to where it started (ParticleSet::restore), and the rest of the span runs substep
+  // by substep, which also reports a failure at its substep, stage and particle.
   bool advance_to(double t, const std::function<bool()>& stop = {});
+  static constexpr int kMostSubstepsPerBatch = 128;
   // Sets the clock of a run resumed from a checkpoint whose particle state was passed to the constructor.
   void restore_clock(double time, std::int64_t steps);
 
@@ -81,20 +92,35 @@ class FullOrderSim {
   // Whether the grid is built when the particles are sorted and kept until the next sort (sort_every > 1,
   // without particle domains or tracers), rather than built from the particles' positions every substep.
   bool grid_follows_sort() const { return sort_every_ > 1 && !domains_ && !tracers_; }
+  // Whether a substep leaves the sort's count of particle blocks and the grid's count of active blocks on the
+  // device (no round trip: the substep's one download is its read-back row): with at most
+  // SparseGrid::kFewPoints particles, no particle domains and the explicit integrator, where launches over a
+  // bound (the particle count, 8 blocks a particle) cost less than the round trip that would size them. The
+  // grid built with a sort and kept (grid_follows_sort) still reads its count back when it is built.
+  bool counts_on_device() const { return particles_.count() <= mpm::SparseGrid::kFewPoints && !domains_ && !implicit_; }
+  // Whether advance_to runs batches of substeps: where the counts stay on the device and the grid is built from
+  // the particles every substep, without a learned law (its LibTorch ops) or tracers.
+  bool runs_batches() const { return counts_on_device() && !grid_follows_sort() && !neural_ && !tracers_; }
+  // Batches replayed as one graph, graphs captured, and batches that went back to their start.
+  std::int64_t graph_batches() const { return graph_batches_; }
+  std::int64_t graph_captures() const { return batch_graphs_.captures(); }
+  std::int64_t rolled_back_batches() const { return rolled_back_batches_; }
   // The implicit solver's counts; nullptr for the explicit integrator.
   const ImplicitSolveTotals* implicit_totals() const { return implicit_ ? &implicit_->totals() : nullptr; }
 
   // Tracers (host/tracer_set.h): passive points starting at `X` (3 planes), carried from now on by the
   // domains that hold them or else by the grid's velocity; they do not act on the simulation. Their
-  // positions and velocities in the order of `X`.
+  // positions and velocities in the order of `X`. Tracers end the batches of substeps (runs_batches): set them
+  // before the first batch replayed as a graph.
   void set_tracers(const std::vector<float>& X);
   std::vector<float> tracer_positions_on_host() const;
   std::vector<float> tracer_velocities_on_host() const;
 
-  // Seconds spent in each stage so far, in pipeline order (only the stages this scene runs).
+  // Seconds spent in each stage so far, in pipeline order (only the stages this scene runs; batches replayed
+  // as graphs in the last, "batch_graphs").
   std::vector<std::pair<std::string, double>> stage_seconds() const;
   // Each stage's launches so far (memory::Traffic::launches): on CUDA, outside a graph, a few microseconds
-  // of the host's time each.
+  // of the host's time each; a replayed batch counts one.
   std::vector<std::pair<std::string, std::int64_t>> stage_launches() const;
 
  private:
@@ -102,7 +128,27 @@ class FullOrderSim {
   // starts at or after it (also the first substep of a run resumed later).
   void release_ended_dirichlet_groups();
   bool enriching() const { return domains_ && config_.enrichment_threshold > 0.0f; }
+  // The particles' largest speed now: the last substep's, or reduced afresh (a download).
+  float particle_speed();
+  // The CFL step for particles as fast as `speed`.
+  float cfl_step(float speed);
+  // The step a batch is planned with (advance_to).
+  float batch_step();
+  // The launches of one substep with parameters `step` as the simulation's step `step_number` (which decides
+  // whether it sorts), stage by stage through `timed`; nothing read back. Returns whether it sorted.
+  bool run_substep(const mpm::StepParams& step, std::int64_t step_number, StageClock& timed);
+  // `count` substeps of dt from time(), as a graph where allowed, read back once; false when a substep broke
+  // the CFL step or failed and the batch went back to its start.
+  bool run_batch(float dt, int count);
+  // The batch's substeps as one graph (captured when its inputs changed): false where not allowed.
+  bool replay_batch(float dt, int count);
+  // Checks a batch's rows and keeps its result; false, with the state of its start, when a substep broke the
+  // CFL step or failed. `speed`: the particles' largest speed at its start.
+  bool accept_batch(float dt, int count, float speed, const std::vector<bool>& released);
 
+  // Where the caller's stream is CUDA's legacy default one, which cannot be captured (held by pointer: exec_
+  // keeps its handle when the simulation moves).
+  std::unique_ptr<OwnedStream> stream_;
   Exec exec_;
   FullOrderConfig config_;
   mpm::ParticleSet particles_;
@@ -111,7 +157,8 @@ class FullOrderSim {
   StepInputs inputs_;
   DeviceBuffer<float> speed_slot_;  // mpm::max_particle_speed's result
   // The particles' largest speed at the end of the last substep, read back with its failure slots, for
-  // the next CFL step; empty before the first substep and after particles() was handed out.
+  // the next CFL step; empty before the first substep and after particles() was handed out (until reduced
+  // afresh).
   std::optional<float> last_particle_speed_;
   // Substeps between block sorts (config.sort_every resolved for the backend; the sort falls on steps that
   // are multiples of it, and on a simulation's first substep), and whether a sort has run.
@@ -129,6 +176,12 @@ class FullOrderSim {
   std::vector<bool> released_;  // per Dirichlet group
   double last_enriched_share_ = 0.0;
   EnrichmentStatistics enrichment_;
+  // Batches (advance_to): the state each starts from, their graphs by inputs, and their counts.
+  mpm::ParticleSet::Snapshot batch_start_;
+  KeptGraphs<StepInputs::FrameShape> batch_graphs_{4};
+  bool buffers_sized_ = false;  // a substep ran in this process: a capture allocates nothing
+  bool graphs_failed_ = false;
+  std::int64_t graph_batches_ = 0, rolled_back_batches_ = 0;
 };
 
 }  // namespace romp::engine

@@ -92,11 +92,15 @@ struct FullOrderConfig : mpm::DomainConfig<float> {
   float flip_alpha = 0.95f;
   P2GKernel p2g = P2GKernel::Tiled;
   // Substeps between sorts of the particles by grid block (≥ 1; 0: the backend's choice, 1 on the CPU, where
-  // a run resumed from a checkpoint must sum in the uninterrupted run's order, and kSortEveryOnCuda there).
+  // a run resumed from a checkpoint must sum in the uninterrupted run's order, and kSortEveryOnCuda there but
+  // for scenes of few particles, FullOrderSim::counts_on_device, which sort every substep).
   // Between sorts the tiled P2G sends particles that left their block straight to the grid, and (without particle
   // domains or tracers) the grid built around the particles' blocks at the sort serves; a particle whose
   // stencil leaves it makes the next substep sort early.
   int sort_every = 0;
+  // Batches of substeps (FullOrderSim::runs_batches) replayed as one CUDA graph each; off (romp run
+  // --no-frame-graphs), the same batches are launched substep by substep. Not a scene key.
+  bool frame_graphs = true;
   // Particle domains: corners of particles whose deformation quality (particle_domains.h) is at most
   // this become degrees of freedom of their own (dynamic enrichment); 0 turns enrichment off.
   float enrichment_threshold = 0.6f;

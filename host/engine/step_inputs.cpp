@@ -177,8 +177,9 @@ const char* stage_name(mpm::Stage stage) {
 }
 
 void StepInputs::reserve_readback(int floats, int slots, int rows) {
-  ROMP_CHECK(floats >= 1 && slots >= 0 && rows >= 1 && floats_ == 0 && pending_rows_ == 0,
-             "reserve_readback: once, before the first substep, for at least one value and one row");
+  ROMP_CHECK(floats >= 0 && slots >= 0 && rows >= 1 && !reserved_ && pending_rows_ == 0,
+             "reserve_readback: once, before the first substep, for at least one row");
+  reserved_ = true;
   floats_ = floats;
   slots_ = slots;
   most_rows_ = rows;
@@ -233,6 +234,12 @@ void StepInputs::check_stages(int row, const std::string& who, std::int64_t step
                                      stage_name(stage), what),
                          step, stage, index);
   }
+}
+
+bool StepInputs::failed(int row) const {
+  const std::int64_t* failures = read_row(row);
+  return std::any_of(failures, failures + mpm::kStageCount,
+                     [](std::int64_t failure) { return failure != mpm::kNoFailure; });
 }
 
 bool advance_clock(double& time, double t, const std::function<double()>& stable_dt,

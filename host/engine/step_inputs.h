@@ -79,7 +79,7 @@ class StepInputs {
   // download. `slots` more failure slots a row (reset to mpm::kNoFailure by `at`, as the stages' are:
   // ReducedSim's points outside the domain and its failed points' records) and `floats` values (ReducedSim's
   // [x̂ | v̂ | status], FullOrderSim's "a particle left the grid"); `rows`: the most substeps between two
-  // read-backs. Call once, before the first substep.
+  // read-backs. Call at most once, before the first substep (otherwise: no reserved room, one row).
   void reserve_readback(int floats, int slots, int rows = 1);
   // The reserved room of the row the last `at` handed out, on the device.
   struct Row {
@@ -98,6 +98,8 @@ class StepInputs {
   // nodes; every other stage's index goes through `describe`.
   void check_stages(int row, const std::string& who, std::int64_t step, double time,
                     const FailureDescriber& describe) const;
+  // Whether a stage's failure slot in row `row` recorded a non-finite value.
+  bool failed(int row) const;
 
   bool plastic() const { return plastic_; }
   // The largest dilatational wave speed sqrt((λ + 2μ) / ρ) over the materials (m/s), for the CFL rule.
@@ -131,6 +133,7 @@ class StepInputs {
   // first 4 bytes hold a float speed, then the reserved floats (two per word).
   DeviceBuffer<std::int64_t> rows_;
   int slots_ = 0, floats_ = 0, most_rows_ = 1;
+  bool reserved_ = false;
   int pending_rows_ = 0;            // handed out by `at` since the last read_back
   std::vector<std::int64_t> read_;  // the rows the last read_back read
 

@@ -28,9 +28,8 @@ void add_reduced_run_options(CLI::App& run, ReducedRunOptions& options) {
       ->check(CLI::Range(1e-6, 1.0))
       ->needs(rom);
   run.add_flag("--no-frame-graphs", options.no_frame_graphs,
-               "Reduced-order: launch each substep's kernels rather than replay each frame's substeps as one CUDA "
-               "graph (for comparison; the results are the same)")
-      ->needs(rom);
+               "Launch each substep's kernels rather than replay a frame's substeps (reduced order) or a batch of "
+               "them (full order, few particles) as one CUDA graph (for comparison; the results are the same)");
 }
 
 std::unique_ptr<Simulation> make_reduced_simulation(const ReducedRunOptions& options, const Exec& exec,

@@ -63,6 +63,11 @@ class FullOrderRun final : public Simulation {
           fmt::format("enrichment: {:.1f}% of domain particles per substep on average, {:.1f}% at most (step {})",
                       100.0 * enrichment.share_sum / double(enrichment.substeps), 100.0 * enrichment.largest_share,
                       enrichment.largest_share_step));
+    if (sim_.runs_batches())
+      lines.push_back(fmt::format(
+          "full-order substeps in batches: {} replayed as one graph each ({} captured); {} went back to their start "
+          "(a speed outran the planned step, or a stage failed) and ran substep by substep",
+          sim_.graph_batches(), sim_.graph_captures(), sim_.rolled_back_batches()));
     const engine::ImplicitSolveTotals* totals = sim_.implicit_totals();
     if (totals != nullptr && totals->solves > 0)
       lines.push_back(
