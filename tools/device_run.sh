@@ -122,6 +122,12 @@ if [ -x "$romp" ]; then
       quote "compare_$name" "error" 3
   }
   against_cpu default 40 "$root/scenes/default.toml"
+  # The default scene's batches replayed as graphs (the run above) against the same batches launched substep by
+  # substep: gpu-notes.md, "Full-order batches of substeps as one CUDA graph".
+  stage run_default_no_graphs 40 "$romp" --device cuda run "$root/scenes/default.toml" --no-frame-graphs \
+    -o "$work/default_no_graphs.h5" --no-progress
+  quote run_default_cuda "substeps|batches" 6
+  quote run_default_no_graphs "substeps|batches" 6
   against_cpu sand 60 "$root/scenes/nclaw/cube_sand.toml"
   against_cpu pool_neural 90 "$root/scenes/nclaw/jelly_into_water_pool.toml" --law "jelly=$root/scenes/nclaw/laws/jelly.h5"
   stage run_robust_cuda 60 "$romp" --device cuda run "$root/scenes/robust/twist_compress_release.toml" \
