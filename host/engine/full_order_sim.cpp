@@ -246,12 +246,7 @@ bool FullOrderSim::replay_batch(float dt, int count) {
     return false;
   }
   if (!captured) inputs_.claim_rows(count);
-  const std::size_t stage = stages_.size() - 1;
-  stage_timeline_.open();
-  graph->replay(exec_);
-  stage_timeline_.close(stage);
-  if (stage_launches_.size() <= stage) stage_launches_.resize(stage + 1, 0);
-  ++stage_launches_[stage];
+  replay_as_stage(*graph, exec_, stages_.size() - 1, stage_timeline_, stage_launches_);
   ++graph_batches_;
   return true;
 }

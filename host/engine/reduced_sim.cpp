@@ -198,12 +198,7 @@ bool ReducedSim::run_frame_graph(float dt, int count) {
     inputs_.claim_rows(count);
     quadrature_->account_builds(count);
   }
-  const std::size_t stage = stages_.size() - 1;
-  stage_timeline_.open();
-  frame->replay(exec_);
-  stage_timeline_.close(stage);
-  if (stage_launches_.size() <= stage) stage_launches_.resize(stage + 1, 0);
-  ++stage_launches_[stage];
+  replay_as_stage(*frame, exec_, stages_.size() - 1, stage_timeline_, stage_launches_);
   ++graph_frames_;
   return true;
 }

@@ -11,7 +11,9 @@
 #include <vector>
 
 #include "kernels/core/event_timeline.h"
+#include "kernels/core/exec.h"
 #include "kernels/core/memory.h"
+#include "kernels/core/stream_graph.h"
 
 namespace romp::engine {
 
@@ -46,6 +48,17 @@ class StageClock {
   std::vector<std::int64_t>* launches_ = nullptr;
   std::size_t next_ = 0;
 };
+
+// Replays `graph` (substeps captured as one CUDA graph) as stage `stage` of the table: its time on `timeline`,
+// one launch in `launches`. A replay's stages are not told apart.
+inline void replay_as_stage(const StreamGraph& graph, const Exec& exec, std::size_t stage, EventTimeline& timeline,
+                            std::vector<std::int64_t>& launches) {
+  timeline.open();
+  graph.replay(exec);
+  timeline.close(stage);
+  if (launches.size() <= stage) launches.resize(stage + 1, 0);
+  ++launches[stage];
+}
 
 // The stage table: each stage's name with its seconds so far from `timeline` (stages not yet run: 0).
 inline std::vector<std::pair<std::string, double>> stage_table(const std::vector<std::string>& stages,
