@@ -1,6 +1,7 @@
 // step suite: full-order MPM particle-substeps per second, with memory per particle, for the
 // jelly cube and the sand column of the neural-constitutive-law paper at 100k and 1M particles, with
-// the portable and the tiled P2G side by side.
+// the portable and the tiled P2G side by side; and the jelly cube at 1k and 4k particles a frame at a time,
+// its substeps in batches replayed as graphs or launched.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -39,7 +40,8 @@ constexpr StepVariant kVariants[] = {
 };
 static_assert(engine::kSortEveryOnCuda == 4, "the variant's name says how often it sorts");
 
-engine::FullOrderSim make_sim(const Exec& exec, const StepCase& c, Index particles, const StepVariant& variant) {
+engine::FullOrderSim make_sim(const Exec& exec, const StepCase& c, Index particles, const StepVariant& variant,
+                              float fixed_dt = 0.0f, bool frame_graphs = true) {
   const Vec3<float> extent = c.high - c.low;
   const float volume = extent[0] * extent[1] * extent[2];
   const float spacing = std::cbrt(volume / float(particles));
@@ -51,11 +53,38 @@ engine::FullOrderSim make_sim(const Exec& exec, const StepCase& c, Index particl
   config.materials = {scene::nclaw_material(c.material)};
   config.p2g = variant.p2g;
   config.sort_every = variant.sort_every;
+  config.fixed_dt = fixed_dt;
+  config.frame_graphs = frame_graphs;
   const geometry::SamplingSpec lattice{geometry::SamplingMethod::Lattice, kParticlesPerCellPerAxis, dx};
   mpm::ParticleInit init = geometry::sample_box(c.low, c.high, lattice, config.materials[0].density);
   for (Index p = 0; p < init.count(); ++p)
     for (int a = 0; a < 3; ++a) init.v[a * init.count() + p] = c.velocity[a];
   return engine::FullOrderSim(exec, config, init);
+}
+
+// A scene of few particles a frame of 10 substeps at a time (advance_to): in batches replayed as graphs, and
+// the same batches launched substep by substep (FullOrderSim::runs_batches). The target for such
+// scenes is 50 µs a substep on a GPU; the step is the CFL step at the start, fixed so that every frame is alike.
+void time_small_scenes(Context& context, const StepCase& c) {
+  constexpr int kSubstepsPerFrame = 10;
+  const StepVariant backends_choice{engine::P2GKernel::Tiled, 0, "tiled"};
+  for (const Index particles : {Index(1000), Index(4000)})
+    for (const Exec& exec : context.execs())
+      for (const bool graphs : {true, false}) {
+        const float dt = make_sim(exec, c, particles, backends_choice).stable_dt();
+        engine::FullOrderSim sim = make_sim(exec, c, particles, backends_choice, dt, graphs);
+        const Index n = sim.particles().count();
+        const Measurement& m = context.time(
+            "step", fmt::format("{}_{}k_frames{}", c.name, particles / 1000, graphs ? "" : "_no_graph"), exec,
+            n * kSubstepsPerFrame, "particle-substep",
+            [&] { sim.advance_to(sim.time() + double(kSubstepsPerFrame) * double(dt)); }, 0.0,
+            fmt::format("{} particles, frames of {} substeps, batches {}", n, kSubstepsPerFrame,
+                        graphs ? "replayed as graphs" : "launched substep by substep"));
+        const std::string where = fmt::format("step.{}.{}{}", m.name, m.backend, m.threads);
+        context.record(where + ".us_per_substep", m.median_seconds() / kSubstepsPerFrame * 1e6);
+        context.record(where + ".batches_replayed", double(sim.graph_batches()));
+        context.record(where + ".batches_rolled_back", double(sim.rolled_back_batches()));
+      }
 }
 
 }  // namespace
@@ -97,6 +126,7 @@ void run_step_suite(Context& context) {
             context.record(where + ".share." + stage, seconds / total);
         }
   }
+  time_small_scenes(context, cases[0]);
 }
 
 }  // namespace romp::bench
