@@ -178,7 +178,9 @@ class FullOrderSim {
   EnrichmentStatistics enrichment_;
   // Batches (advance_to): the state each starts from, their graphs by inputs, and their counts.
   mpm::ParticleSet::Snapshot batch_start_;
-  KeptGraphs<StepInputs::FrameShape> batch_graphs_{4};
+  // A frame's batches take at most two shapes (full ones and the rest), and the step may alternate between two.
+  static constexpr std::size_t kKeptBatchGraphs = 4;
+  KeptGraphs<StepInputs::FrameShape> batch_graphs_{kKeptBatchGraphs};
   bool buffers_sized_ = false;  // a substep ran in this process: a capture allocates nothing
   bool graphs_failed_ = false;
   std::int64_t graph_batches_ = 0, rolled_back_batches_ = 0;
