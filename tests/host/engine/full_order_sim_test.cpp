@@ -528,6 +528,16 @@ engine::ColliderSpec paddle_at(float face, float speed) {
   return engine::ColliderSpec{paddle};
 }
 
+// The body of `n` particles was pushed by a paddle whose face is at x = `face` now: not penetrated, and no
+// further ahead than the 1.5 dx a particle's stencil reaches the face's nodes from.
+void expect_pushed_by(engine::FullOrderSim& sim, Index n, float face) {
+  const std::vector<float> x = sim.particles().positions_in_initial_order(sim.exec());
+  const float rearmost = *std::min_element(x.begin(), x.begin() + n);
+  EXPECT_GT(rearmost, face);
+  EXPECT_LE(rearmost, face + 1.5f * sim.config().dx);
+  for (const float value : x) ASSERT_TRUE(std::isfinite(value));
+}
+
 // With few particles advance_to runs batches of substeps, each read back once and, from the second on, replayed
 // as one graph; launched substep by substep (frame_graphs off) the same batches give the same state, bit for bit
 // on the CPU with one thread and to rounding on CUDA (its P2G atomics sum in any order). The frames' batches
@@ -612,15 +622,8 @@ TEST(FullOrderSim, ABatchWhoseParticlesOutrunItsStepGoesBackToItsStart) {
   const std::int64_t batches = sim.graph_batches();
   sim.advance_to(0.040);
   EXPECT_GT(sim.graph_batches(), batches);
-  const std::vector<float> x = sim.particles().positions_in_initial_order(test::exec());
-  const Index n = init.count();
-  const float face = 0.36f + 2.0f * float(sim.time());
-  // Pushed, not penetrated, and no further than the face has come (within the 1.5 dx contact reach): the
-  // substeps of the batch that went back were not kept.
-  const float rearmost = *std::min_element(x.begin(), x.begin() + n);
-  EXPECT_GT(rearmost, face);
-  EXPECT_LE(rearmost, face + 1.5f * dx);
-  for (const float value : x) ASSERT_TRUE(std::isfinite(value));
+  // Not pushed further than the face has come: the substeps of the batch that went back were not kept.
+  expect_pushed_by(sim, init.count(), 0.36f + 2.0f * float(sim.time()));
 }
 
 // The CFL step after a substep uses the largest speed the moved particles stored (recorded in G2P and in the
@@ -718,23 +721,11 @@ TEST(FullOrderSim, DirichletGroupAndColliderLetGoAtTheirEnd) {
 TEST(FullOrderSim, MovingColliderPushesTheBodyAhead) {
   const float dx = 1.0f / 32.0f;
   engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(2e4f, 0.3f));
-  mpm::ColliderState paddle;
-  paddle.shape = mpm::ColliderShape::Box;
-  paddle.contact = mpm::ContactType::Separate;
-  paddle.center = Vec3<float>(0.3f, 0.5f, 0.5f);
-  paddle.half_extents = Vec3<float>(0.05f, 0.2f, 0.2f);
-  paddle.linear_velocity = Vec3<float>(0.5f, 0.0f, 0.0f);
-  config.colliders = {engine::ColliderSpec{paddle}};
+  config.colliders = {paddle_at(0.35f, 0.5f)};
   const mpm::ParticleInit init = test::lattice_box({0.40f, 0.45f, 0.45f}, {0.50f, 0.55f, 0.55f}, dx, 2, kJellyDensity);
   engine::FullOrderSim sim(test::exec(), config, init);
   sim.advance_to(0.3);  // the paddle's face travels from x = 0.35 to 0.50
-  const std::vector<float> x = sim.particles().positions_in_initial_order(test::exec());
-  const Index n = init.count();
-  const float face = 0.35f + 0.5f * float(sim.time());
-  const float rearmost = *std::min_element(x.begin(), x.begin() + n);
-  // Pushed, not penetrated: the body stays ahead of the face (within the 1.5 dx contact reach).
-  EXPECT_GT(rearmost, face);
-  EXPECT_LE(rearmost, face + 1.5f * dx);
+  expect_pushed_by(sim, init.count(), 0.35f + 0.5f * float(sim.time()));
 }
 
 TEST(FullOrderSim, NonFiniteStateStopsWithStageAndParticle) {
