@@ -109,7 +109,7 @@ void run_rom_cost_suite(Context& context) {
         reduced.projection = c.projection;
         reduced.samples = Index(samples);
         reduced.warm_start_inversion = c.warm_start;
-        reduced.frame_graphs = c.frame_graphs;
+        reduced.frame_graphs = c.frame_graphs ? engine::GraphReplay::Always : engine::GraphReplay::Never;
         engine::ReducedSim sim(exec, setup.config, setup.particles, map, std::vector<float>(6, 0.0f), reduced);
         const float dt = sim.stable_dt();
         const std::string name =

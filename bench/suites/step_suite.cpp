@@ -41,7 +41,7 @@ constexpr StepVariant kVariants[] = {
 static_assert(engine::kSortEveryOnCuda == 4, "the variant's name says how often it sorts");
 
 engine::FullOrderSim make_sim(const Exec& exec, const StepCase& c, Index particles, const StepVariant& variant,
-                              float fixed_dt = 0.0f, bool frame_graphs = true) {
+                              float fixed_dt = 0.0f, engine::GraphReplay frame_graphs = engine::GraphReplay::Auto) {
   const Vec3<float> extent = c.high - c.low;
   const float volume = extent[0] * extent[1] * extent[2];
   const float spacing = std::cbrt(volume / float(particles));
@@ -72,7 +72,8 @@ void time_small_scenes(Context& context, const StepCase& c) {
     for (const Exec& exec : context.execs())
       for (const bool graphs : {true, false}) {
         const float dt = make_sim(exec, c, particles, backends_choice).stable_dt();
-        engine::FullOrderSim sim = make_sim(exec, c, particles, backends_choice, dt, graphs);
+        engine::FullOrderSim sim = make_sim(exec, c, particles, backends_choice, dt,
+                                            graphs ? engine::GraphReplay::Always : engine::GraphReplay::Never);
         const Index n = sim.particles().count();
         const Measurement& m = context.time(
             "step", fmt::format("{}_{}k_frames{}", c.name, particles / 1000, graphs ? "" : "_no_graph"), exec,

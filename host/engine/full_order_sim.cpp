@@ -62,7 +62,7 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
   if (domains_) stages_.insert(stages_.end(), {"g2c", "c2p"});
   if (inputs_.plastic()) stages_.emplace_back("plasticity");
   if (neural_) stages_.emplace_back("neural_plasticity");
-  if (runs_batches()) stages_.emplace_back("batch_graphs");
+  if (replays_batch_graphs()) stages_.emplace_back("batch_graphs");
 }
 
 FullOrderSim::FullOrderSim(FullOrderSim&&) = default;
@@ -219,7 +219,7 @@ bool FullOrderSim::run_batch(float dt, int count) {
 bool FullOrderSim::replay_batch(float dt, int count) {
   // The first batch runs eagerly: it sizes the buffers (an allocation cannot be captured). A Dirichlet group
   // that ends within the batch would be freed between its substeps by the host.
-  if (!config_.frame_graphs || graphs_failed_ || !buffers_sized_) return false;
+  if (!replays_batch_graphs() || !buffers_sized_) return false;
   const double end = time_ + double(count) * double(dt);
   for (std::size_t g = 0; g < config_.dirichlet.size(); ++g)
     if (!released_[g] && config_.dirichlet[g].end < end) return false;

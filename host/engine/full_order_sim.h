@@ -101,6 +101,10 @@ class FullOrderSim {
   // Whether advance_to runs batches of substeps: where the counts stay on the device and the grid is built from
   // the particles every substep, without a learned law (its LibTorch ops) or tracers.
   bool runs_batches() const { return counts_on_device() && !grid_follows_sort() && !neural_ && !tracers_; }
+  // Whether batches are replayed as graphs (FullOrderConfig::frame_graphs, and no capture has failed).
+  bool replays_batch_graphs() const {
+    return runs_batches() && replays_graphs(config_.frame_graphs, exec_) && !graphs_failed_;
+  }
   // Batches replayed as one graph, graphs captured, and batches that went back to their start.
   std::int64_t graph_batches() const { return graph_batches_; }
   std::int64_t graph_captures() const { return batch_graphs_.captures(); }
@@ -117,7 +121,7 @@ class FullOrderSim {
   std::vector<float> tracer_velocities_on_host() const;
 
   // Seconds spent in each stage so far, in pipeline order (only the stages this scene runs; batches replayed
-  // as graphs in the last, "batch_graphs").
+  // as graphs in the last, "batch_graphs", where they are).
   std::vector<std::pair<std::string, double>> stage_seconds() const;
   // Each stage's launches so far (memory::Traffic::launches): on CUDA, outside a graph, a few microseconds
   // of the host's time each; a replayed batch counts one.

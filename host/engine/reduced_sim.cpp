@@ -136,10 +136,11 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   last_sample_speed_ = max_sample_speed_;
   check_latent("the initial projection");
 
-  stages_ = {"samples", "kinematics", "grid_build", "p2g", "grid_update", "g2p", "projection", "frame_graphs"};
   const Index m = samples_.per_substep();
-  graphs_possible_ = options_.frame_graphs && m <= mpm::SparseGrid::kFewPoints && quadrature_->builds_on_device(m) &&
-                     latent_.projects_on_device(m);
+  graphs_possible_ = replays_graphs(options_.frame_graphs, exec_) && m <= mpm::SparseGrid::kFewPoints &&
+                     quadrature_->builds_on_device(m) && latent_.projects_on_device(m);
+  stages_ = {"samples", "kinematics", "grid_build", "p2g", "grid_update", "g2p", "projection"};
+  if (graphs_possible_) stages_.emplace_back("frame_graphs");
 }
 
 Error ReducedSim::singular_projection() const {

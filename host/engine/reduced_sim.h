@@ -78,12 +78,12 @@ struct ReducedOptions {
   // changes x̂ by less than tolerance × (1 + |x̂|).
   int gauss_newton_iterations = 10;
   double gauss_newton_tolerance = 1e-6;
-  // Run each frame's substeps as one CUDA graph (kernels/core/stream_graph.h) where the step allows: a build
-  // with no round trip (at most mpm::SparseGrid::kFewPoints samples, no Lagrangian neighbour search, an
+  // Run each frame's substeps as one CUDA graph (GraphReplay: on CUDA by default) where the step allows: a
+  // build with no round trip (at most mpm::SparseGrid::kFewPoints samples, no Lagrangian neighbour search, an
   // Eulerian candidate count that stays on the device, Gauss–Newton in one block) and inputs that do not
   // change within the frame. Captured again when the frame's Δt, substep count or inputs change (the graphs
   // of the last four are kept).
-  bool frame_graphs = true;
+  GraphReplay frame_graphs = GraphReplay::Auto;
 };
 
 class ReducedSim {
@@ -164,7 +164,8 @@ class ReducedSim {
   std::int64_t lagrangian_quadrature_points() const { return lagrangian_ ? lagrangian_->points_so_far() : 0; }
   std::vector<std::pair<std::string, double>> stage_seconds() const;
   // Each stage's launches so far (memory::Traffic::launches): on CUDA, outside a graph, a few microseconds
-  // of the host's time each. Frames run as graphs count in the last stage, "frame_graphs", one launch each.
+  // of the host's time each. Frames run as graphs count in the last stage, "frame_graphs" (where they can), one launch
+  // each.
   std::vector<std::pair<std::string, std::int64_t>> stage_launches() const;
   // Whether frames run as graphs (ReducedOptions::frame_graphs and the step allows it), how many graphs were
   // captured, and how many frames ran as one.

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/core/exec.h"
 #include "kernels/mpm/domain_config.h"
 #include "kernels/mpm/step.h"
 
@@ -70,6 +71,15 @@ enum class P2GKernel { Portable, Tiled };
 // solved by CG on the grid (host/implicit_grid_solver.h), which is stable beyond the explicit CFL limit.
 enum class Integrator { Explicit, Implicit };
 
+// Whether runs of substeps are replayed as CUDA graphs where the step allows (kernels/core/stream_graph.h).
+// Auto: on CUDA only. On the CPU a replay runs the same loops, saves nothing (a CPU launch costs nothing) and
+// folds the stage table's rows into one; Always replays there too (the tests check a replay's semantics on
+// the CPU). Never: launched substep by substep (romp run --no-frame-graphs), with the same results.
+enum class GraphReplay { Auto, Always, Never };
+inline bool replays_graphs(GraphReplay choice, const Exec& exec) {
+  return choice == GraphReplay::Always || (choice == GraphReplay::Auto && exec.is_cuda());
+}
+
 // The largest cfl the implicit step accepts: it lifts the elastic wave limit, so Δt may span many
 // wave crossings of a cell; particles are still kept within a cell per step (FullOrderSim::stable_dt).
 inline constexpr float kImplicitMaxCfl = 20.0f;
@@ -98,9 +108,9 @@ struct FullOrderConfig : mpm::DomainConfig<float> {
   // domains or tracers) the grid built around the particles' blocks at the sort serves; a particle whose
   // stencil leaves it makes the next substep sort early.
   int sort_every = 0;
-  // Batches of substeps (FullOrderSim::runs_batches) replayed as one CUDA graph each; off (romp run
-  // --no-frame-graphs), the same batches are launched substep by substep. Not a scene key.
-  bool frame_graphs = true;
+  // Batches of substeps (FullOrderSim::runs_batches) replayed as one CUDA graph each (GraphReplay). Not a scene
+  // key.
+  GraphReplay frame_graphs = GraphReplay::Auto;
   // Particle domains: corners of particles whose deformation quality (particle_domains.h) is at most
   // this become degrees of freedom of their own (dynamic enrichment); 0 turns enrichment off.
   float enrichment_threshold = 0.6f;

@@ -28,8 +28,9 @@ void add_reduced_run_options(CLI::App& run, ReducedRunOptions& options) {
       ->check(CLI::Range(1e-6, 1.0))
       ->needs(rom);
   run.add_flag("--no-frame-graphs", options.no_frame_graphs,
-               "Launch each substep's kernels rather than replay a frame's substeps (reduced order) or a batch of "
-               "them (full order, few particles) as one CUDA graph (for comparison; the results are the same)");
+               "On CUDA, launch each substep's kernels rather than replay a frame's substeps (reduced order) or a "
+               "batch of them (full order, few particles) as one CUDA graph (for comparison; the results are the "
+               "same). The CPU launches them anyway: a replay saves nothing there");
 }
 
 std::unique_ptr<Simulation> make_reduced_simulation(const ReducedRunOptions& options, const Exec& exec,
@@ -53,7 +54,7 @@ std::unique_ptr<Simulation> make_reduced_simulation(const ReducedRunOptions& opt
   spdlog::info("reduced-order run: {} quadrature, {} projection, {} samples per substep", options.quadrature,
                options.projection, options.samples == 0 ? std::string("all") : std::to_string(options.samples));
   reduced.cfl = options.cfl;
-  reduced.frame_graphs = !options.no_frame_graphs;
+  if (options.no_frame_graphs) reduced.frame_graphs = engine::GraphReplay::Never;
   if (options.cfl > 0.0)
     spdlog::info("reduced substeps at CFL number {} (the scene's: {})", options.cfl, setup.config.cfl);
   return reduced_simulation(exec, setup.config, setup.particles, std::move(model.map), std::move(model.xhat), reduced);

@@ -111,7 +111,7 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
   if (options.resume && at_points)
     throw Error("--resume continues runs of the scene's material points; a checkpoint holds no tracers");
   scene::SceneSetup setup = scene::build_scene(scene);
-  setup.config.frame_graphs = options.frame_graphs;
+  if (!options.frame_graphs) setup.config.frame_graphs = engine::GraphReplay::Never;
   const io::SnapshotHeader header = snapshot_header(scene, setup.particles, options.output_points);
   result.particles = setup.particles.count();
 

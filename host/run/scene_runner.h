@@ -29,7 +29,7 @@ struct RunOptions {
   // Set for a reduced-order run: builds its simulation from the scene's setup (the model it needs is
   // the caller's business). Empty: the full-order engine.
   std::function<std::unique_ptr<Simulation>(const Exec&, const scene::SceneSetup&)> make_reduced;
-  // Full-order batches of substeps replayed as CUDA graphs (engine::FullOrderConfig::frame_graphs).
+  // false: full-order batches of substeps launched, never replayed as CUDA graphs (engine::GraphReplay::Never).
   bool frame_graphs = true;
 };
 

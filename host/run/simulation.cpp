@@ -65,9 +65,13 @@ class FullOrderRun final : public Simulation {
                       enrichment.largest_share_step));
     if (sim_.runs_batches())
       lines.push_back(fmt::format(
-          "full-order substeps in batches: {} replayed as one graph each ({} captured); {} went back to their start "
-          "(a speed outran the planned step, or a stage failed) and ran substep by substep",
-          sim_.graph_batches(), sim_.graph_captures(), sim_.rolled_back_batches()));
+          "full-order substeps in batches read back once each: {}; {} went back to their start (a speed outran "
+          "the planned step, or a stage failed) and ran substep by substep",
+          sim_.graph_batches() > 0 || sim_.replays_batch_graphs()
+              ? fmt::format("{} replayed as one graph ({} captured)", sim_.graph_batches(), sim_.graph_captures())
+              : std::string("launched substep by substep (graphs off: on the CPU by default, where a replay saves "
+                            "nothing)"),
+          sim_.rolled_back_batches()));
     const engine::ImplicitSolveTotals* totals = sim_.implicit_totals();
     if (totals != nullptr && totals->solves > 0)
       lines.push_back(
@@ -106,8 +110,8 @@ class ReducedRun final : public Simulation {
     lines.push_back(sim_.runs_frame_graphs()
                         ? fmt::format("reduced-order frames: {} replayed as one graph each ({} captured)",
                                       sim_.graph_frames(), sim_.graph_captures())
-                        : std::string("reduced-order frames: launched substep by substep (their build needs the "
-                                      "host, or graphs are off)"));
+                        : std::string("reduced-order frames: launched substep by substep (graphs off: on the CPU "
+                                      "by default, where a replay saves nothing; or their build needs the host)"));
     if (sim_.searches_neighbours() && sim_.steps() > 0)
       lines.push_back(
           fmt::format("Lagrangian quadrature: the samples and their neighbours, {:.0f} of {} material "

@@ -551,6 +551,7 @@ TEST(FullOrderSim, BatchesReplayedAsGraphsMatchBatchesRunSubstepBySubstep) {
   config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
   config.fixed_dt = 2e-4f;
   config.colliders = {paddle_at(0.37f, 1.0f)};
+  config.frame_graphs = engine::GraphReplay::Always;  // on the CPU too
   config.dirichlet = {
       engine::DirichletSpec{Vec3<float>(0.5f, 0.5f, 0.5f), Vec3<float>::zero(), Vec3<float>::zero(), 0.025}};
   mpm::ParticleInit init = test::lattice_box({0.40f, 0.45f, 0.45f}, {0.50f, 0.55f, 0.55f}, dx, 2, kJellyDensity);
@@ -558,7 +559,7 @@ TEST(FullOrderSim, BatchesReplayedAsGraphsMatchBatchesRunSubstepBySubstep) {
     if (init.x[p] > 0.48f) init.dirichlet_group[p] = 0;
   const Exec exec = test::exec_with_threads(1);
   engine::FullOrderConfig eager_config = config;
-  eager_config.frame_graphs = false;
+  eager_config.frame_graphs = engine::GraphReplay::Never;
   engine::FullOrderSim graphs(exec, config, init), eager(exec, eager_config, init);
   ASSERT_TRUE(graphs.runs_batches());
   for (int frame = 1; frame <= 8; ++frame) {  // 45 substeps a frame: an odd count of sorts a batch
@@ -587,7 +588,9 @@ TEST(FullOrderSim, BatchesReplayedAsGraphsMatchBatchesRunSubstepBySubstep) {
 TEST(FullOrderSim, ABatchReplayedAsAGraphCostsTheHostALaunch) {
   const float dx = 1.0f / 32.0f;
   const mpm::ParticleInit init = test::lattice_box({0.40f, 0.55f, 0.40f}, {0.50f, 0.65f, 0.50f}, dx, 2, kJellyDensity);
-  engine::FullOrderSim sim(test::exec(), falling_jelly_config(dx), init);
+  engine::FullOrderConfig config = falling_jelly_config(dx);
+  config.frame_graphs = engine::GraphReplay::Always;
+  engine::FullOrderSim sim(test::exec(), config, init);
   sim.advance_to(0.01);  // eager: sizes the buffers
   sim.advance_to(0.02);  // captured
   const memory::Traffic before = memory::traffic();
@@ -609,6 +612,7 @@ TEST(FullOrderSim, ABatchWhoseParticlesOutrunItsStepGoesBackToItsStart) {
   const float dx = 1.0f / 32.0f;
   engine::FullOrderConfig config = test::open_space_config(dx, 32, jelly(1e6f, 0.3f));  // the CFL step binds
   config.colliders = {paddle_at(0.36f, 2.0f)};  // reaches the body, at rest at x = 0.40, at t = 20 ms
+  config.frame_graphs = engine::GraphReplay::Always;
   const mpm::ParticleInit init = test::lattice_box({0.40f, 0.45f, 0.45f}, {0.50f, 0.55f, 0.55f}, dx, 2, kJellyDensity);
   engine::FullOrderSim sim(test::exec(), config, init);
   sim.advance_to(0.01);

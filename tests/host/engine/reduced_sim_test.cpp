@@ -123,7 +123,7 @@ engine::ReducedSim deformed_body(engine::RomQuadrature quadrature, engine::Neigh
   options.seed = 5;
   options.neighbour_search = search;
   options.projection = projection;
-  options.frame_graphs = frame_graphs;
+  options.frame_graphs = frame_graphs ? engine::GraphReplay::Always : engine::GraphReplay::Never;
   return engine::ReducedSim(test::exec(), falling_config(), body, test::small_nonlinear_map(0.25f, 0.5f, 0.003f),
                             {0.0f, 0.0f, 0.0f}, options);
 }
@@ -292,7 +292,7 @@ engine::ReducedSim pushed_cube(engine::RomQuadrature quadrature, engine::RomProj
   options.neighbour_search = engine::NeighbourSearch::Never;
   options.samples = 10;
   options.seed = 3;
-  options.frame_graphs = frame_graphs;
+  options.frame_graphs = frame_graphs ? engine::GraphReplay::Always : engine::GraphReplay::Never;
   return engine::ReducedSim(test::exec_with_threads(1), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f},
                             options);
 }
