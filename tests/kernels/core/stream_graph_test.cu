@@ -101,6 +101,7 @@ TEST_F(GraphTest, RecordsSortsSelectionsAndLaunchesUpToADeviceCount) {
   IndexSelector select;
   PairSorter sort;
   // Once eagerly: their scratch is allocated outside the capture.
+  put(exec, flags, flags_host);
   select.select_on_device(exec, flags.span(), 1, selected.span());
   sort(exec, keys.span(), flags.span());
   copied.fill_zero(exec.stream);
