@@ -101,7 +101,7 @@ float FullOrderSim::batch_step() {
 
 void FullOrderSim::substep(float dt) {
   ROMP_CHECK(dt > 0.0f && std::isfinite(dt), fmt::format("substep dt must be finite and > 0, got {}", dt));
-  release_ended_dirichlet_groups();
+  release_ended_dirichlet_groups(time_);
   if (domains_)
     for (const DomainReleaseSpec& release : config_.domain_releases)
       if (time_ >= release.start && time_ < release.end) mpm::release_domains(exec_, particles_.view(), release.region);
@@ -196,19 +196,14 @@ bool FullOrderSim::run_substep(const mpm::StepParams& step_params, std::int64_t 
 }
 
 bool FullOrderSim::run_batch(float dt, int count) {
-  release_ended_dirichlet_groups();
+  release_ended_dirichlet_groups(time_);
   const std::vector<bool> released = released_;
   const float speed = particle_speed();
   if (!replay_batch(dt, count)) {
     particles_.save(exec_, batch_start_);
     double time = time_;
     for (int k = 0; k < count; ++k, time += dt) {
-      // A Dirichlet group whose end comes within the batch is freed at its first substep from then on.
-      for (std::size_t g = 0; g < config_.dirichlet.size(); ++g)
-        if (!released_[g] && time >= config_.dirichlet[g].end) {
-          particles_.release_dirichlet_group(exec_, std::int32_t(g));
-          released_[g] = true;
-        }
+      release_ended_dirichlet_groups(time);  // a group whose end comes within the batch
       StageClock timed(stage_timeline_, stage_launches_);
       run_substep(inputs_.at(time, dt), steps_ + k, timed);
     }
@@ -303,9 +298,9 @@ std::vector<float> FullOrderSim::tracer_velocities_on_host() const {
   return tracers_->velocities(exec_, domains_ ? &*domains_ : nullptr);
 }
 
-void FullOrderSim::release_ended_dirichlet_groups() {
+void FullOrderSim::release_ended_dirichlet_groups(double time) {
   for (std::size_t g = 0; g < config_.dirichlet.size(); ++g) {
-    if (released_[g] || time_ < config_.dirichlet[g].end) continue;
+    if (released_[g] || time < config_.dirichlet[g].end) continue;
     particles_.release_dirichlet_group(exec_, std::int32_t(g));
     if (domains_) domains_->release_dirichlet_group(exec_, std::int32_t(g));
     released_[g] = true;

@@ -128,9 +128,9 @@ class FullOrderSim {
   std::vector<std::pair<std::string, std::int64_t>> stage_launches() const;
 
  private:
-  // Frees the particles (and corners) of every group whose `end` has come: at the first substep that
+  // Frees the particles (and corners) of every group whose `end` has come by `time`: at the first substep that
   // starts at or after it (also the first substep of a run resumed later).
-  void release_ended_dirichlet_groups();
+  void release_ended_dirichlet_groups(double time);
   bool enriching() const { return domains_ && config_.enrichment_threshold > 0.0f; }
   // The particles' largest speed now: the last substep's, or reduced afresh (a download).
   float particle_speed();
