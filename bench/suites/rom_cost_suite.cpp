@@ -40,6 +40,7 @@ constexpr CostCase kCases[] = {
     {engine::RomQuadrature::Eulerian, engine::RomProjection::Velocity, "eulerian_velocity_cold", false},
     {engine::RomQuadrature::Eulerian, engine::RomProjection::PositionVelocity, "eulerian_position"},
     {engine::RomQuadrature::Lagrangian, engine::RomProjection::Velocity, "lagrangian_velocity"},
+    {engine::RomQuadrature::Lagrangian, engine::RomProjection::Velocity, "lagrangian_velocity_no_graph", true, false},
 };
 
 }  // namespace

@@ -13,8 +13,8 @@ rom::DeformationMapView<float> DeformationMap::view() const {
 }
 
 void DeformationMap::evaluate(const Exec& exec, Span<const float> xhat, Vec3Planes<const float> X,
-                              const rom::DeformationMapOutputs<float>& out) const {
-  rom::evaluate_deformation_map<float>(exec, view(), xhat, X, out);
+                              const rom::DeformationMapOutputs<float>& out, Span<const std::int64_t> live) const {
+  rom::evaluate_deformation_map<float>(exec, view(), xhat, X, out, rom::MapKernel::Fastest, live);
 }
 
 }  // namespace romp::engine

@@ -64,30 +64,39 @@ class LagrangianQuadrature final : public ReducedQuadrature {
   // `search`: the samples' neighbours among the material points; otherwise every material point.
   LagrangianQuadrature(const Exec& exec, const ReferenceBody& reference, int latent, float dx, bool search);
 
+  // Searching, the neighbours are counted on the device: the view's count is every material point's, a bound
+  // on them, and live_count() says how many there are (no round trip, so a CUDA graph holds the build).
   mpm::ParticleView build(const Exec& exec, const DeformationMap& map, const SampleSet& samples, Span<const float> xhat,
                           Span<const float> vhat) override;
+  Span<const std::int64_t> live_count() const override { return neighbours_; }
   Vec3Planes<float> material_positions() override;
   mpm::PointSource failure_source() const override;
   std::string describe(const mpm::FailedPoint& point) const override;
-  Index last_count(const Exec&) const override { return points_.count; }
-  bool builds_on_device(Index) const override { return !search_; }  // the search counts the neighbours on the host
-  void account_builds(int builds) override { points_so_far_ += std::int64_t(builds) * points_.count; }
+  Index last_count(const Exec& exec) const override;  // searching, a download
+  bool builds_on_device(Index) const override { return true; }
+  // Searching, a build adds its count to a total on the device, in a launch a replay runs too.
+  void account_builds(int builds) override {
+    if (!search_) points_so_far_ += std::int64_t(builds) * points_.count;
+  }
 
   bool searches_neighbours() const { return search_; }
-  // Quadrature points summed over the builds so far.
-  std::int64_t points_so_far() const { return points_so_far_; }
+  // Quadrature points summed over the builds so far (searching, a download).
+  std::int64_t points_so_far(const Exec& exec) const;
 
  private:
   const ReferenceBody& reference_;
   int latent_;
-  float dx_;
   bool search_;
+  float inverse_dx_;
   std::int64_t points_so_far_ = 0;
-  QuadraturePoints points_;  // in reference order
+  QuadraturePoints points_;  // in reference order: every material point, or the neighbours in its first slots
   DeviceBuffer<float> dg_dxhat_;
-  // The neighbour search: g's positions at every point, the points marked as neighbours, their indices.
+  // The neighbour search: g's positions at every point, the points marked as neighbours, their indices and
+  // count (the selector's slot, valid until its next call), the counts summed over the builds.
   DeviceBuffer<float> positions_;
   DeviceBuffer<std::int32_t> marked_, index_;
+  Span<const std::int64_t> neighbours_;
+  DeviceBuffer<std::int64_t> neighbours_so_far_;
   rom::SampleNeighbourhood neighbourhood_;
   IndexSelector select_;
 };

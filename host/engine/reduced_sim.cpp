@@ -222,7 +222,7 @@ void ReducedSim::run_substep(const mpm::StepParams& step, Index staged_substep) 
     const Vec3Planes<float> sample_x(samples_.points().x.data(), m);
     keep_inside_domain(sample_x, row.slots, kSampleOutside);  // before the quadrature is placed around the samples
     quadrature = quadrature_->build(exec_, map_, samples_, latent_.xhat(), latent_.vhat());
-    keep_inside_domain(quadrature_->material_positions(), row.slots, kQuadratureOutside);
+    keep_inside_domain(quadrature_->material_positions(), row.slots, kQuadratureOutside, quadrature_->live_count());
   });
   // Alg. 5: P2G from the quadrature points, the grid update, G2P at the samples, on a grid of the samples'
   // stencils alone: G2P reads no other node and the update goes node by node, so the quadrature's shares
@@ -314,8 +314,9 @@ void ReducedSim::check_latent(const char* stage) const {
                          steps_, mpm::Stage::G2P, -1);
 }
 
-void ReducedSim::keep_inside_domain(Vec3Planes<float> x, Span<std::int64_t> row_slots, ReadbackSlot slot) {
-  rom::keep_points_inside(exec_, x, config_.domain(), config_.dx, row_slots.subspan(slot, 1));
+void ReducedSim::keep_inside_domain(Vec3Planes<float> x, Span<std::int64_t> row_slots, ReadbackSlot slot,
+                                    Span<const std::int64_t> live) {
+  rom::keep_points_inside(exec_, x, config_.domain(), config_.dx, row_slots.subspan(slot, 1), live);
 }
 
 void ReducedSim::throw_if_outside_domain(int row) {

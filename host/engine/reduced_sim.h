@@ -79,8 +79,8 @@ struct ReducedOptions {
   int gauss_newton_iterations = 10;
   double gauss_newton_tolerance = 1e-6;
   // Run each frame's substeps as one CUDA graph (GraphReplay: on CUDA by default) where the step allows: a
-  // build with no round trip (at most mpm::SparseGrid::kFewPoints samples, no Lagrangian neighbour search, an
-  // Eulerian candidate count that stays on the device, Gauss–Newton in one block) and inputs that do not
+  // build with no round trip (at most mpm::SparseGrid::kFewPoints samples, an Eulerian candidate count that
+  // stays on the device, Gauss–Newton in one block) and inputs that do not
   // change within the frame. Captured again when the frame's Δt, substep count or inputs change (the graphs
   // of the last four are kept).
   GraphReplay frame_graphs = GraphReplay::Auto;
@@ -160,8 +160,8 @@ class ReducedSim {
   // The quadrature points of the last substep: Lagrangian, the samples and their neighbours or every
   // material point; Eulerian, the points inverted (inside the body or not; P2G reads those inside).
   Index last_quadrature_count() const { return quadrature_->last_count(exec_); }
-  // Lagrangian quadrature points summed over the substeps so far.
-  std::int64_t lagrangian_quadrature_points() const { return lagrangian_ ? lagrangian_->points_so_far() : 0; }
+  // Lagrangian quadrature points summed over the substeps so far (with the neighbour search, a download).
+  std::int64_t lagrangian_quadrature_points() const { return lagrangian_ ? lagrangian_->points_so_far(exec_) : 0; }
   std::vector<std::pair<std::string, double>> stage_seconds() const;
   // Each stage's launches so far (memory::Traffic::launches): on CUDA, outside a graph, a few microseconds
   // of the host's time each. Frames run as graphs count in the last stage, "frame_graphs" (where they can), one launch
@@ -192,7 +192,9 @@ class ReducedSim {
   bool run_frame_graph(float dt, int count);
   // Moves the points at x back inside the grid's interior, noting the first that was outside in the row's
   // slot `slot` (rom::keep_points_inside): the substep goes on without waiting, on positions the grid holds.
-  void keep_inside_domain(Vec3Planes<float> x, Span<std::int64_t> row_slots, ReadbackSlot slot);
+  // With `live`, a count on the device, only the first live[0] points.
+  void keep_inside_domain(Vec3Planes<float> x, Span<std::int64_t> row_slots, ReadbackSlot slot,
+                          Span<const std::int64_t> live = {});
   // After a read-back, the substeps' rows in order: each checked as if read back alone, its result kept.
   void accept_substeps(float dt, int count);
   // The point a read-back row's record holds.

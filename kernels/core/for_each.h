@@ -7,6 +7,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <climits>
 #include <cstdint>
 #include <string>
@@ -65,11 +66,50 @@ void for_each_cuda(const Exec& exec, Index n, const F& functor) {
   for_each_kernel<<<unsigned(blocks), kBlockSize, 0, exec.stream>>>(n, functor);
   check_launch(exec);
 }
+
+// functor(i) for i < min(bound, count[0]) (count null: bound) in a grid-stride loop: the grid is sized for the
+// bound, which the host knows, and each thread reads the count, which stays on the device.
+template <class F>
+__global__ void for_each_bounded_kernel(Index bound, const std::int64_t* count, F functor) {
+  const Index n = count && *count < bound ? Index(*count) : bound;
+  const Index stride = Index(gridDim.x) * blockDim.x;
+  for (Index i = Index(blockIdx.x) * blockDim.x + threadIdx.x; i < n; i += stride) functor(i);
+}
+
+// The blocks of kBlockSize threads of `kernel` the device holds at once (every SM at the kernel's occupancy, from
+// its registers and shared memory): what a grid-stride launch needs to keep the device busy. Asked of the
+// occupancy calculator once per kernel (the current device's, at the first call).
+template <int kBlockSize, class Kernel>
+int resident_blocks(Kernel kernel) {
+  static const int blocks = [kernel] {
+    int per_multiprocessor = 0, device = 0, multiprocessors = 0;
+    ROMP_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_multiprocessor, kernel, kBlockSize, 0));
+    ROMP_CUDA_CHECK(cudaGetDevice(&device));
+    ROMP_CUDA_CHECK(cudaDeviceGetAttribute(&multiprocessors, cudaDevAttrMultiProcessorCount, device));
+    return std::max(per_multiprocessor, 1) * std::max(multiprocessors, 1);
+  }();
+  return blocks;
+}
+
+// A bounded launch whose elements past the count cost nothing: at most one resident wave of blocks, however large
+// the bound (a launch of the bound's threads, most of them reading the count and leaving, would take a wave of the
+// device per few hundred thousand of them: at millions of points that is longer than the live elements' work).
+template <int kBlockSize, class F>
+void for_each_bounded_cuda(const Exec& exec, Index bound, const std::int64_t* count, const F& functor) {
+  const Index needed = (bound + kBlockSize - 1) / kBlockSize;
+  const Index blocks = std::min<Index>(needed, resident_blocks<kBlockSize>(for_each_bounded_kernel<F>));
+  for_each_bounded_kernel<<<unsigned(blocks), kBlockSize, 0, exec.stream>>>(bound, count, functor);
+  check_launch(exec);
+}
 #endif
 
-// One launch of functor(i) for i in [0, n), counted (or recorded into an open capture on the CPU).
-template <int kBlockSize, class F>
-void launch_each(const Exec& exec, Index n, const F& functor) {
+// How a launch covers its elements: every one of them, or those below a count on the device (a bound).
+enum class Cover { Each, UpToCount };
+
+// One launch of functor(i) for i in [0, n) (UpToCount: i < min(n, count[0]), count empty: n), counted (or
+// recorded into an open capture on the CPU).
+template <Cover kCover, int kBlockSize, class F>
+void launch(const Exec& exec, Index n, Span<const std::int64_t> count, const F& functor) {
 #if defined(ROMP_WITH_CUDA) && !defined(__CUDACC__)
   // In a build with the CUDA backend, a launch from a file nvcc does not compile would throw at run
   // time on a GPU only: refuse it at compile time, where CI (nvcc, no GPU) sees it.
@@ -81,7 +121,10 @@ void launch_each(const Exec& exec, Index n, const F& functor) {
   if (exec.is_cuda()) {
 #if defined(__CUDACC__)
     memory::note_launch();
-    for_each_cuda<kBlockSize>(exec, n, functor);
+    if constexpr (kCover == Cover::UpToCount)
+      for_each_bounded_cuda<kBlockSize>(exec, n, count.empty() ? nullptr : count.data(), functor);
+    else
+      for_each_cuda<kBlockSize>(exec, n, functor);
     return;
 #else
     throw Error(
@@ -89,7 +132,16 @@ void launch_each(const Exec& exec, Index n, const F& functor) {
         "launch it from a .cu file listed with romp_single_source()");
 #endif
   }
-  memory::launch_on_cpu(exec.stream, 1, [exec, n, functor] { for_each_cpu(exec, n, functor); });
+  // The CPU reads the count when the launch runs (in a replayed graph too) and loops over the live prefix alone,
+  // which a loop over the bound would hand to the first of its threads.
+  memory::launch_on_cpu(exec.stream, 1, [exec, n, count, functor] {
+    Index live = n;
+    if (!count.empty()) {
+      const memory::DeviceAccess read;
+      live = count[0] < n ? Index(count[0]) : n;
+    }
+    if (live > 0) for_each_cpu(exec, live, functor);
+  });
 }
 
 }  // namespace detail
@@ -99,46 +151,16 @@ void launch_each(const Exec& exec, Index n, const F& functor) {
 // keep four SMs busy) spread over more SMs in smaller blocks.
 template <int kBlockSize = detail::kForEachBlockSize, class F>
 void for_each(const Exec& exec, Index n, const F& functor) {
-  detail::launch_each<kBlockSize>(exec, n, functor);
+  detail::launch<detail::Cover::Each, kBlockSize>(exec, n, {}, functor);
 }
 
-namespace detail {
-template <class F>
-struct UpTo {
-  Span<const std::int64_t> count;
-  F functor;
-  ROMP_HD void operator()(Index i) const {
-    if (count.empty() || i < count[0]) functor(i);
-  }
-};
-}  // namespace detail
-
-// functor(i) for a functor that skips the i from count[0] on itself (count a value on exec's backend; empty:
-// every i < bound): one launch whenever bound > 0. CUDA launches the bound, where the count stays (no round
-// trip to learn it); the CPU reads the count when the launch runs (in a replayed graph too) and loops over the
-// live prefix alone, which a loop over the bound would hand to the first of its threads.
+// functor(i) for i < min(bound, count[0]) (count a value on exec's backend; empty: every i < bound): one launch
+// whenever bound > 0, sized on the host by the bound while the count stays where a device computed it (no round
+// trip to learn it). CUDA launches at most one resident wave of blocks, each thread looping over the live
+// elements in strides of the grid; the CPU loops over the live elements alone.
 template <int kBlockSize = detail::kForEachBlockSize, class F>
 void for_each_bounded(const Exec& exec, Index bound, Span<const std::int64_t> count, const F& functor) {
-  if (bound <= 0) return;
-  if (exec.is_cuda()) {
-    detail::launch_each<kBlockSize>(exec, bound, functor);
-    return;
-  }
-  memory::launch_on_cpu(exec.stream, 1, [exec, bound, count, functor] {
-    Index n = bound;
-    if (!count.empty()) {
-      const memory::DeviceAccess read;
-      n = count[0] < bound ? Index(count[0]) : bound;
-    }
-    if (n > 0) detail::for_each_cpu(exec, n, functor);
-  });
-}
-
-// functor(i) for the i < count[0] of at most `bound` elements, count a value on exec's backend (empty: every
-// i < bound): a launch sized on the host while the count stays where a device computed it.
-template <int kBlockSize = detail::kForEachBlockSize, class F>
-void for_each_up_to(const Exec& exec, Index bound, Span<const std::int64_t> count, const F& functor) {
-  for_each_bounded<kBlockSize>(exec, bound, count, detail::UpTo<F>{count, functor});
+  detail::launch<detail::Cover::UpToCount, kBlockSize>(exec, bound, count, functor);
 }
 
 }  // namespace romp

@@ -62,7 +62,7 @@ void gather_arrays(const Exec& exec, const GatheredArrays& arrays, Index source_
   for (int a = 0; a < arrays.float_count; ++a) check(arrays.floats[a]);
   for (int a = 0; a < arrays.int_count; ++a) check(arrays.ints[a]);
   for (int a = 0; a < arrays.key_count; ++a) check(arrays.keys[a]);
-  for_each_up_to(exec, m, count, GatherArrays{arrays, source_count, index});
+  for_each_bounded(exec, m, count, GatherArrays{arrays, source_count, index});
 }
 
 }  // namespace romp

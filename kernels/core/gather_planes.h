@@ -47,7 +47,7 @@ struct GatheredArrays {
 };
 
 // Rows `index` of every array of `arrays` (each holding source_count rows), into index.size() rows; with
-// `count`, a value on exec's backend, only the first count[0] of them (for_each_up_to).
+// `count`, a value on exec's backend, only the first count[0] of them (for_each_bounded).
 void gather_arrays(const Exec& exec, const GatheredArrays& arrays, Index source_count, Span<const std::int32_t> index,
                    Span<const std::int64_t> count = {});
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "kernels/core/error.h"
+#include "kernels/core/for_each.h"
 #include "kernels/core/guarded_memory.h"
 #include "kernels/core/memory.h"
 
@@ -24,6 +25,12 @@ struct FlagEquals {
   std::int32_t value;
   const std::int64_t* flag_count;  // null: every flag
   ROMP_HD bool operator()(std::int32_t i) const { return (!flag_count || i < *flag_count) && flags[i] == value; }
+};
+
+struct AddCount {
+  Span<const std::int64_t> count;
+  Span<std::int64_t> total;
+  ROMP_HD void operator()(Index) const { total[0] += count[0]; }
 };
 
 }  // namespace
@@ -72,6 +79,11 @@ Span<const std::int64_t> IndexSelector::select_on_device(const Exec& exec, Span<
     count[0] = found;
   });
   return count_.prefix(1);
+}
+
+void add_count(const Exec& exec, Span<const std::int64_t> count, Span<std::int64_t> total) {
+  ROMP_CHECK(count.size() >= 1 && total.size() >= 1, "add_count: a count and a total");
+  for_each(exec, 1, AddCount{count, total});
 }
 
 }  // namespace romp

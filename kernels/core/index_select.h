@@ -19,7 +19,7 @@ class IndexSelector {
   // would download every flag and upload the indices.
   Index operator()(const Exec& exec, Span<const std::int32_t> flags, std::int32_t value, Span<std::int32_t> selected);
   // The same selection with its count left on exec's backend: the returned slot, valid until the next call,
-  // for launches sized by flags.size() that stop at the count (for_each_up_to). No round trip. `flag_count`,
+  // for launches sized by flags.size() that stop at the count (for_each_bounded). No round trip. `flag_count`,
   // where given, is a count on the device: only the first flag_count[0] flags are read.
   Span<const std::int64_t> select_on_device(const Exec& exec, Span<const std::int32_t> flags, std::int32_t value,
                                             Span<std::int32_t> selected, Span<const std::int64_t> flag_count = {});
@@ -28,5 +28,8 @@ class IndexSelector {
   DeviceBuffer<unsigned char> temporary_;
   DeviceBuffer<std::int64_t> count_;
 };
+
+// total[0] += count[0], both on exec's backend: a running total of counts that stay on the device (one launch).
+void add_count(const Exec& exec, Span<const std::int64_t> count, Span<std::int64_t> total);
 
 }  // namespace romp

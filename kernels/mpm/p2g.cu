@@ -24,7 +24,7 @@ void particle_to_grid(const Exec& exec, const ParticleView& particles, const Gri
 
 void particle_to_grid_active_nodes(const Exec& exec, const ParticleView& particles, const GridView& grid,
                                    const StepParams& step, Span<const std::int64_t> live) {
-  for_each_up_to(exec, particles.count, live, ParticleToGrid<true>{particles, grid, step});
+  for_each_bounded(exec, particles.count, live, ParticleToGrid<true>{particles, grid, step});
 }
 
 }  // namespace romp::mpm

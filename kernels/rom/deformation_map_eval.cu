@@ -46,7 +46,8 @@ Index deformation_map_parameter_count(int latent, int hidden_layers, int width) 
 
 template <class T>
 void evaluate_deformation_map(const Exec& exec, const DeformationMapView<T>& map, Span<const T> xhat,
-                              Vec3Planes<const T> X, const DeformationMapOutputs<T>& out, MapKernel kernel) {
+                              Vec3Planes<const T> X, const DeformationMapOutputs<T>& out, MapKernel kernel,
+                              Span<const std::int64_t> live) {
   ROMP_CHECK(map.latent >= 1 && map.latent <= kMaxMapLatent, "the fused map evaluator takes a latent size r in [1, " +
                                                                  std::to_string(kMaxMapLatent) + "], got " +
                                                                  std::to_string(map.latent));
@@ -66,14 +67,15 @@ void evaluate_deformation_map(const Exec& exec, const DeformationMapView<T>& map
   ROMP_CHECK(!out.dg_dxhat.data() || out.dg_dxhat.size() == 3 * map.latent * n, "dg_dxhat must hold 3 r planes of n");
   if (n == 0) return;
   with_map_evaluator(map, kernel, exec.backend, [&](const auto& evaluator) {
-    for_each(exec, n, MapPoint<T, std::decay_t<decltype(evaluator)>>{evaluator, xhat.data(), X, out});
+    for_each_bounded(exec, n, live, MapPoint<T, std::decay_t<decltype(evaluator)>>{evaluator, xhat.data(), X, out});
   });
 }
 
 template void evaluate_deformation_map<float>(const Exec&, const DeformationMapView<float>&, Span<const float>,
-                                              Vec3Planes<const float>, const DeformationMapOutputs<float>&, MapKernel);
+                                              Vec3Planes<const float>, const DeformationMapOutputs<float>&, MapKernel,
+                                              Span<const std::int64_t>);
 template void evaluate_deformation_map<double>(const Exec&, const DeformationMapView<double>&, Span<const double>,
                                                Vec3Planes<const double>, const DeformationMapOutputs<double>&,
-                                               MapKernel);
+                                               MapKernel, Span<const std::int64_t>);
 
 }  // namespace romp::rom

@@ -15,6 +15,7 @@
 // memory; the fixed-shape kernels (fixed_map_point.h) keep them in registers.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "kernels/core/exec.h"
@@ -95,11 +96,12 @@ enum class MapKernel {
 };
 
 // Evaluates g at X (n points, planes on exec's backend) for one shared x̂ (`latent` values on exec's
-// backend). Throws romp::Error when the sizes exceed the kernel's limits or the views disagree.
+// backend); with `live`, a count on exec's backend, at the first live[0] points only (for_each_bounded: n is
+// then a bound). Throws romp::Error when the sizes exceed the kernel's limits or the views disagree.
 // Queued on exec like for_each. Instantiated for float and double.
 template <class T>
 void evaluate_deformation_map(const Exec& exec, const DeformationMapView<T>& map, Span<const T> xhat,
                               Vec3Planes<const T> X, const DeformationMapOutputs<T>& out,
-                              MapKernel kernel = MapKernel::Fastest);
+                              MapKernel kernel = MapKernel::Fastest, Span<const std::int64_t> live = {});
 
 }  // namespace romp::rom

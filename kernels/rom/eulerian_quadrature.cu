@@ -31,9 +31,6 @@ struct EulerianPoint {
   Vec3Planes<const float> X_guess;
   Mat3Planes<const float> F_guess;
   EulerianPointsOut out;
-  // Where given, a count on the device: the slots from count[0] on hold no point. A member, not a
-  // for_each_up_to wrapper: each evaluator's kernel is compiled once.
-  Span<const std::int64_t> count;
 
   // What the next evaluation of the map is for.
   enum class Stage { Start, Trial, Exact, Kinematics, Done };
@@ -48,7 +45,6 @@ struct EulerianPoint {
   // point; Exact: g and ∇_X g where Broyden's estimate failed; Kinematics: the Jacobians at the
   // solution), so the kernel holds one inlined copy of the evaluator, whose registers it can keep.
   ROMP_HD void operator()(Index i) const {
-    if (!count.empty() && i >= count[0]) return;
     Vec3<float> X = X_guess.load(i);
     Mat3<float> B = F_guess.load(i);
     std::int32_t status = kQuadratureUnconverged;
@@ -207,7 +203,7 @@ void eulerian_quadrature(const Exec& exec, const DeformationMapView<float>& map,
     for_each_bounded(
         exec, n, count,
         EulerianPoint<std::decay_t<decltype(evaluator)>>{evaluator, xhat.data(), vhat.data(), occupancy, density,
-                                                         volume, options, x, X_guess, F_guess, out, count});
+                                                         volume, options, x, X_guess, F_guess, out});
   });
 }
 
@@ -242,7 +238,7 @@ void tally_quadrature(const Exec& exec, const EulerianPointsOut& out, Index n, S
              "tally_quadrature: a status, iteration and evaluation count and mass for each of the n points, one "
              "tally");
   for_each(exec, 1, ClearLastMass{tally});
-  for_each_up_to(exec, n, count, TallyPoint{out, tally});
+  for_each_bounded(exec, n, count, TallyPoint{out, tally});
 }
 
 }  // namespace romp::rom

@@ -88,7 +88,7 @@ void warm_start_inversions(const Exec& exec, const Inversions& last, Span<const 
   ROMP_CHECK(xhat.size() == last.xhat.size() && last.vhat.size() == xhat.size() && tally.size() == 1,
              "warm_start_inversions: x̂ now and x̂, v̂ then of one latent size, one tally");
   if (n == 0) return;
-  for_each_up_to(exec, n, count, WarmStart{last, xhat, cell, sub, X_guess, F_guess, tally});
+  for_each_bounded(exec, n, count, WarmStart{last, xhat, cell, sub, X_guess, F_guess, tally});
 }
 
 void keep_inversions(const Exec& exec, const Inversions& now, const InversionsOut& kept) {

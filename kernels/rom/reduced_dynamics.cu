@@ -66,16 +66,16 @@ struct KeepPointInside {
 }  // namespace
 
 void keep_points_inside(const Exec& exec, Vec3Planes<float> x, const mpm::Domain& domain, float dx,
-                        Span<std::int64_t> first) {
+                        Span<std::int64_t> first, Span<const std::int64_t> live) {
   ROMP_CHECK(first.size() >= 1, "keep_points_inside needs one slot");
-  if (x.count() > 0) for_each(exec, x.count(), KeepPointInside{x, domain, dx, first});
+  for_each_bounded(exec, x.count(), live, KeepPointInside{x, domain, dx, first});
 }
 
 void latent_to_point_velocity(const Exec& exec, int latent, Span<const float> dg_dxhat, Span<const float> vhat,
-                              Vec3Planes<float> v) {
+                              Vec3Planes<float> v, Span<const std::int64_t> live) {
   ROMP_CHECK(latent >= 1 && vhat.size() == latent, "v̂ must hold r = " + std::to_string(latent) + " values");
   ROMP_CHECK(dg_dxhat.size() == 3 * latent * v.count(), "dg_dxhat must hold 3 r planes of the point count");
-  if (v.count() > 0) for_each(exec, v.count(), LatentToPointVelocity{latent, dg_dxhat, vhat, v});
+  for_each_bounded(exec, v.count(), live, LatentToPointVelocity{latent, dg_dxhat, vhat, v});
 }
 
 void normal_equations(const Exec& exec, int latent, Span<const float> dg_dxhat, Vec3Planes<const float> target,

@@ -13,9 +13,10 @@
 namespace romp::rom {
 
 // v_p = (∂g/∂x̂)(X_p) v̂ for n points: dg_dxhat holds 3 r planes of n (plane o r + j = ∂g_o/∂x̂_j, as
-// evaluate_deformation_map writes them), vhat r values on exec's backend.
+// evaluate_deformation_map writes them), vhat r values on exec's backend. With `live`, a count on exec's
+// backend, only the first live[0] points.
 void latent_to_point_velocity(const Exec& exec, int latent, Span<const float> dg_dxhat, Span<const float> vhat,
-                              Vec3Planes<float> v);
+                              Vec3Planes<float> v, Span<const std::int64_t> live = {});
 
 // The normal equations of min_y Σ_p ‖J_p y − (target_p − reference_p)‖² over m points, J_p = ∂g/∂x̂ at
 // point p (3 r planes of m): `system` receives, in double, A = Σ J_pᵀ J_p (r × r, row-major), then
@@ -40,7 +41,8 @@ void advance_latent(const Exec& exec, int latent_size, Span<double> system, floa
 // waiting for the answer, since the substep's later stages then see only positions the grid holds. The
 // substep is rejected once the slot is read back, so the moved points' motion is never kept.
 inline constexpr std::int64_t kNoPointOutside = INT64_MAX;
+// With `live`, a count on exec's backend, only the first live[0] points are checked.
 void keep_points_inside(const Exec& exec, Vec3Planes<float> x, const mpm::Domain& domain, float dx,
-                        Span<std::int64_t> first);
+                        Span<std::int64_t> first, Span<const std::int64_t> live = {});
 
 }  // namespace romp::rom

@@ -44,7 +44,7 @@ class SampleNeighbourhood {
   Span<const std::uint64_t> near_bases(const Exec& exec, Vec3Planes<const float> x, float inverse_dx);
 
   // Builds the Eulerian points around the samples (reference X, current x, ∇_X g at F, m of each): their
-  // count, on the device, and a bound on it for the launches that stop there (for_each_up_to). No download
+  // count, on the device, and a bound on it for the launches that stop there (for_each_bounded). No download
   // for up to ≈ 600 samples at ℓ = 2 (the bound is then every cell the samples could find); above, the cells'
   // count is read back to size the candidates.
   struct Points {

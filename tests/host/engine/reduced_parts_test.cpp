@@ -164,9 +164,14 @@ TEST(LagrangianQuadrature, EveryPointOrTheSamplesNeighboursAtTheirDecodedPlaces)
   EXPECT_NEAR(x[0], init.x[0] + 0.01f, 1e-6f);
   // Two samples in a 4³ body at dx = 1 cm: their stencils' reach covers the whole body.
   LagrangianQuadrature near(test::exec(), reference, 3, 0.01f, /*search=*/true);
-  EXPECT_EQ(near.build(test::exec(), map, samples, xhat, vhat).count, n);
+  EXPECT_EQ(near.build(test::exec(), map, samples, xhat, vhat).count, n);  // a bound on the neighbours: every point
+  EXPECT_EQ(download(test::exec().backend, near.live_count())[0], n);
+  EXPECT_EQ(near.last_count(test::exec()), n);
   EXPECT_EQ(near.failure_source().particle.size(), n);
-  EXPECT_EQ(near.points_so_far(), n);
+  EXPECT_EQ(near.points_so_far(test::exec()), n);
+  near.build(test::exec(), map, samples, xhat, vhat);
+  EXPECT_EQ(near.points_so_far(test::exec()), 2 * n);  // summed on the device
+  EXPECT_EQ(every.points_so_far(test::exec()), n);
 }
 
 }  // namespace

@@ -219,12 +219,12 @@ TEST(ReducedSim, FramesReuseTheirBuffersAndReadBackOnce) {
   // The neighbours' and the Eulerian points' counts vary with the samples: their buffers grow with
   // headroom now and then (not in these frames), where they were allocated every substep.
   const FrameTraffic neighbours = frame_traffic(engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Always);
-  EXPECT_LE(neighbours.allocating_frames, 2);
-  // The nodes near the samples are found, and the neighbours compacted, on the device; the compaction
-  // (IndexSelector) reads its count back, on the CPU as on CUDA: one download a substep more.
+  // The nodes near the samples are found, and the neighbours compacted and counted, on the device; the launches
+  // after the compaction run over every material point's slot and stop at the count, so nothing is sized by it.
+  EXPECT_EQ(neighbours.allocating_frames, 0);
   EXPECT_EQ(neighbours.largest_uploads, 0);
-  EXPECT_EQ(neighbours.largest_downloads, per_frame + kFrameSubsteps);
-  EXPECT_LE(neighbours.launches, 26 * kFrameSubsteps);
+  EXPECT_EQ(neighbours.largest_downloads, per_frame);
+  EXPECT_LE(neighbours.launches, 27 * kFrameSubsteps);  // one more than when counted on the host: their total
 
   const FrameTraffic eulerian = frame_traffic(engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Auto);
   EXPECT_LE(eulerian.allocating_frames, 2);
@@ -255,19 +255,21 @@ TEST(ReducedSim, FramesReuseTheirBuffersAndReadBackOnce) {
 TEST(ReducedSim, AFrameRunAsAGraphCostsTheHostALaunch) {
   struct Case {
     engine::RomQuadrature quadrature;
+    engine::NeighbourSearch search;
     engine::RomProjection projection;
   };
-  for (const Case c : {Case{engine::RomQuadrature::Lagrangian, engine::RomProjection::Velocity},
-                       Case{engine::RomQuadrature::Eulerian, engine::RomProjection::Velocity},
-                       Case{engine::RomQuadrature::Eulerian, engine::RomProjection::PositionVelocity}}) {
-    const FrameTraffic graphs = frame_traffic(c.quadrature, engine::NeighbourSearch::Never, c.projection, true);
+  for (const Case c :
+       {Case{engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Never, engine::RomProjection::Velocity},
+        Case{engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Always, engine::RomProjection::Velocity},
+        Case{engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Never, engine::RomProjection::Velocity},
+        Case{engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Never,
+             engine::RomProjection::PositionVelocity}}) {
+    const FrameTraffic graphs = frame_traffic(c.quadrature, c.search, c.projection, true);
     EXPECT_LE(graphs.allocating_frames, 1);  // the first frame's staged samples
     EXPECT_EQ(graphs.largest_uploads, 1);
     EXPECT_EQ(graphs.largest_downloads, 1);
     EXPECT_EQ(graphs.launches, 2);
   }
-  // A Lagrangian neighbour search counts the neighbours on the host: its frames run substep by substep.
-  EXPECT_FALSE(deformed_body(engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Always).runs_frame_graphs());
   EXPECT_FALSE(deformed_body(engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Auto,
                              engine::RomProjection::Velocity, false)
                    .runs_frame_graphs());
@@ -278,7 +280,10 @@ TEST(ReducedSim, AFrameRunAsAGraphCostsTheHostALaunch) {
 // launch's arguments as at capture, its inputs from device memory: a time baked in would hold the floor
 // still). The frame the floor leaves in runs substep by substep, the one after it is captured anew, and so is
 // a frame of another Δt; a frame of the Δt before finds its graph kept.
-engine::ReducedSim pushed_cube(engine::RomQuadrature quadrature, engine::RomProjection projection, bool frame_graphs) {
+// Searching the Lagrangian neighbours, 2 samples, whose neighbours are a part of the cube, their count changing
+// as the cube moves.
+engine::ReducedSim pushed_cube(engine::RomQuadrature quadrature, engine::RomProjection projection, bool frame_graphs,
+                               engine::NeighbourSearch search = engine::NeighbourSearch::Never) {
   engine::FullOrderConfig config = falling_config();
   engine::ColliderSpec floor;
   floor.initial.shape = mpm::ColliderShape::HalfSpace;
@@ -289,8 +294,8 @@ engine::ReducedSim pushed_cube(engine::RomQuadrature quadrature, engine::RomProj
   engine::ReducedOptions options;
   options.quadrature = quadrature;
   options.projection = projection;
-  options.neighbour_search = engine::NeighbourSearch::Never;
-  options.samples = 10;
+  options.neighbour_search = search;
+  options.samples = search == engine::NeighbourSearch::Always ? 2 : 10;
   options.seed = 3;
   options.frame_graphs = frame_graphs ? engine::GraphReplay::Always : engine::GraphReplay::Never;
   return engine::ReducedSim(test::exec_with_threads(1), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f},
@@ -299,13 +304,21 @@ engine::ReducedSim pushed_cube(engine::RomQuadrature quadrature, engine::RomProj
 
 // Bit for bit on one CPU thread; on CUDA the grid's float atomics sum in any order, so to rounding there.
 TEST(ReducedSim, FramesReplayedAsGraphsMatchFramesRunSubstepBySubstep) {
-  for (const engine::RomQuadrature quadrature : {engine::RomQuadrature::Lagrangian, engine::RomQuadrature::Eulerian})
+  struct Quadrature {
+    engine::RomQuadrature quadrature;
+    engine::NeighbourSearch search;
+  };
+  for (const Quadrature q : {Quadrature{engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Never},
+                             Quadrature{engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Always},
+                             Quadrature{engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Never}})
     for (const engine::RomProjection projection :
          {engine::RomProjection::Velocity, engine::RomProjection::PositionVelocity}) {
-      SCOPED_TRACE(fmt::format("quadrature {}, projection {}", int(quadrature), int(projection)));
-      engine::ReducedSim graphs = pushed_cube(quadrature, projection, true);
-      engine::ReducedSim eager = pushed_cube(quadrature, projection, false);
+      SCOPED_TRACE(
+          fmt::format("quadrature {}, search {}, projection {}", int(q.quadrature), int(q.search), int(projection)));
+      engine::ReducedSim graphs = pushed_cube(q.quadrature, projection, true, q.search);
+      engine::ReducedSim eager = pushed_cube(q.quadrature, projection, false, q.search);
       ASSERT_TRUE(graphs.runs_frame_graphs());
+      ASSERT_EQ(graphs.searches_neighbours(), q.search == engine::NeighbourSearch::Always);
       for (int f = 0; f < 4; ++f) {
         graphs.substeps(kDt, 6);
         eager.substeps(kDt, 6);
@@ -328,6 +341,12 @@ TEST(ReducedSim, FramesReplayedAsGraphsMatchFramesRunSubstepBySubstep) {
       EXPECT_EQ(graphs.steps(), eager.steps());
       const auto launches = graphs.stage_launches();
       EXPECT_EQ(launches.back(), (std::pair<std::string, std::int64_t>("frame_graphs", 4)));
+      if (graphs.searches_neighbours()) {
+        // The neighbours' count, kept on the device, is a part of the cube and what the eager run found.
+        EXPECT_LT(graphs.last_quadrature_count(), 4096);
+        EXPECT_EQ(graphs.last_quadrature_count(), eager.last_quadrature_count());
+        EXPECT_EQ(graphs.lagrangian_quadrature_points(), eager.lagrangian_quadrature_points());
+      }
     }
 }
 

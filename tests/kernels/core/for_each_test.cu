@@ -38,6 +38,29 @@ TEST(ForEach, VisitsEveryIndexExactlyOnce) {
   }
 }
 
+// A bounded launch runs the indices below its count, each once, however the count compares with the bound and
+// with the blocks the device holds at once (CUDA loops over one resident wave in strides of the grid: a bound
+// of millions is many strides); the count is read where the launch runs, not when it is queued.
+TEST(ForEach, BoundedLaunchesVisitEachIndexBelowTheirCountOnce) {
+  const Exec& exec = test::exec();
+  constexpr Index kBound = 3000017;
+  DeviceBuffer<int> visits(exec.backend, kBound);
+  DeviceBuffer<std::int64_t> count(exec.backend, 1);
+  for (const std::int64_t live : {std::int64_t(0), std::int64_t(1), std::int64_t(257), std::int64_t(2500001),
+                                  std::int64_t(kBound), std::int64_t(kBound + 5)}) {
+    visits.fill_zero(exec.stream);
+    count.copy_from_host(Span<const std::int64_t>(&live, 1), exec.stream);
+    for_each_bounded(exec, kBound, count.span(), CountVisits{visits.span()});
+    const std::vector<int> host = visits.to_host(exec.stream);
+    for (Index i = 0; i < kBound; ++i) ASSERT_EQ(host[i], i < live ? 1 : 0) << "index " << i << ", count " << live;
+  }
+  // No count: the whole bound.
+  visits.fill_zero(exec.stream);
+  for_each_bounded(exec, kBound, {}, CountVisits{visits.span()});
+  const std::vector<int> host = visits.to_host(exec.stream);
+  for (Index i = 0; i < kBound; ++i) ASSERT_EQ(host[i], 1) << "index " << i;
+}
+
 TEST(ForEach, ZeroElementsLaunchNothing) {
   // A null span would fault if the functor ran.
   for_each(test::exec(), 0, CountVisits{Span<int>()});

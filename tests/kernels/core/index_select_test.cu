@@ -50,7 +50,7 @@ TEST(IndexSelector, RepeatedCallsAllocateNothingAndDownloadOnlyTheCount) {
 }
 
 // The count left on the device: the same selection, no round trip, and a launch over every flag that stops
-// at the count (for_each_up_to) touches exactly the selected indices.
+// at the count (for_each_bounded) touches exactly the selected indices.
 struct MarkSelected {
   Span<const std::int32_t> selected;
   Span<std::int32_t> marks;
@@ -69,7 +69,7 @@ TEST(IndexSelector, CountLeftOnTheDeviceBoundsALaunchWithoutARoundTrip) {
   select.select_on_device(exec, device_flags.span(), 1, selected.span());  // sizes CUB's storage
   const memory::Traffic before = memory::traffic();
   const Span<const std::int64_t> count = select.select_on_device(exec, device_flags.span(), 1, selected.span());
-  for_each_up_to(exec, Index(flags.size()), count, MarkSelected{selected.span(), marks.span()});
+  for_each_bounded(exec, Index(flags.size()), count, MarkSelected{selected.span(), marks.span()});
   const memory::Traffic after = memory::traffic();
   EXPECT_EQ(after.downloads, before.downloads);
   EXPECT_EQ(after.allocations, before.allocations);

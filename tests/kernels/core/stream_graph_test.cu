@@ -110,7 +110,7 @@ TEST_F(GraphTest, RecordsSortsSelectionsAndLaunchesUpToADeviceCount) {
   Span<const std::int32_t> sorted_values;
   graph.capture(exec, [&] {
     const Span<const std::int64_t> count = select.select_on_device(exec, flags.span(), 1, selected.span());
-    for_each_up_to(exec, n, count, CopyIndex{selected.span(), copied.span()});
+    for_each_bounded(exec, n, count, CopyIndex{selected.span(), copied.span()});
     sorted_values = sort(exec, keys.span(), flags.span()).second;
   });
   EXPECT_EQ(graph.launches(), 3);
