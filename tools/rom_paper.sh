@@ -13,11 +13,16 @@
 #                     per substep (1, 2, 5, 10, 20, 50, 100, all); the paper: < 1 % from 10 points
 #   gravity-manifold  Fig. 21's comparison on the gravity cylinder (the paper's is on the tower): the
 #                     nonlinear map against the linear manifold at the same r = 4, 10 and all points
-#   torsion           Table 3: torsion-tension (r = 7), 50 and all sample points
+#   torsion           Table 3: torsion-tension (r = 7), 50 and all sample points, on particle domains
+#                     (scenes/rom/torsion_tension.toml: the paper's v, stretched to 4 times the length)
+#   torsion-plain     Table 3 on plain material points, the reduced step's discretisation, at v scaled
+#                     by 1/20 (scenes/rom/torsion_tension_plain.toml says why)
 #   super-resolution  Table 4: the torsion map run at the paper's resolution and written at a sampling
 #                     twice as fine (romp run --output-points), against a full-order run at that
 #                     resolution; beside it the tracer-particle baseline (the fine points carried by
 #                     the coarse full-order run); 50 and all sample points
+#   super-resolution-plain
+#                     Table 4 on torsion-plain's data and map
 #   poke              Table 5: poke-and-recover (r = 6, trained on 12 single pokes, tested on the
 #                     other 24 azimuths), 50 and all sample points
 #   continual-poking  Table 6: the poke map runs ten pokes in a row (30 s, never seen in training),
@@ -47,7 +52,7 @@ set -euo pipefail
 trap 'echo "interrupted" >&2; exit 130' INT TERM
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 romp="${ROMP:-$root/build/romp}"
-usage() { sed -n '7,40p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '7,44p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 [ $# -ge 2 ] || usage
 experiment="$1" out="$2"
 shift 2
@@ -351,17 +356,21 @@ case "$experiment" in
     table "$out/gravity/mlp_r4.h5" "$members" map 10 0
     table "$out/gravity/linear_r4.h5" "$members" map 10 0 | tail -n +3
     ;;
-  torsion)
-    sweep torsion torsion_tension.toml 's/^dx = 0.00125 .*/dx = 0.0025/'
-    train "$out/torsion/mlp_r7.h5" "$out/torsion/sweep" --latent 7
-    table "$out/torsion/mlp_r7.h5" "$(members_file "$out/torsion/sweep")" map 50 0
+  torsion | torsion-plain)
+    name="$experiment" scene="torsion_tension${experiment#torsion}.toml"
+    scene="${scene/-/_}"
+    sweep "$name" "$scene" 's/^dx = 0.00125 .*/dx = 0.0025/'
+    train "$out/$name/mlp_r7.h5" "$out/$name/sweep" --latent 7
+    table "$out/$name/mlp_r7.h5" "$(members_file "$out/$name/sweep")" map 50 0
     ;;
-  super-resolution)
-    sweep torsion torsion_tension.toml 's/^dx = 0.00125 .*/dx = 0.0025/'
-    train "$out/torsion/mlp_r7.h5" "$out/torsion/sweep" --latent 7
+  super-resolution | super-resolution-plain)
+    name="torsion${experiment#super-resolution}" scene="torsion_tension${experiment#super-resolution}.toml"
+    scene="${scene/-/_}"
+    sweep "$name" "$scene" 's/^dx = 0.00125 .*/dx = 0.0025/'
+    train "$out/$name/mlp_r7.h5" "$out/$name/sweep" --latent 7
     counts=(50 0)
     [ -z "$sample_rows" ] || IFS=, read -r -a counts <<< "$sample_rows"
-    superres_table "$out/torsion/mlp_r7.h5" "$out/torsion/sweep" torsion_tension.toml "${counts[@]}"
+    superres_table "$out/$name/mlp_r7.h5" "$out/$name/sweep" "$scene" "${counts[@]}"
     ;;
   poke)
     sweep poke poke_recover.toml ''
