@@ -58,7 +58,8 @@ mpm::ParticleView LagrangianQuadrature::build(const Exec& exec, const Deformatio
 }
 
 Index LagrangianQuadrature::last_count(const Exec& exec) const {
-  return search_ ? Index(download(exec.backend, neighbours_, exec.stream)[0]) : points_.count;
+  if (!search_) return points_.count;
+  return neighbours_.empty() ? 0 : Index(download(exec.backend, neighbours_, exec.stream)[0]);  // 0 before a build
 }
 
 std::int64_t LagrangianQuadrature::points_so_far(const Exec& exec) const {

@@ -164,6 +164,7 @@ TEST(LagrangianQuadrature, EveryPointOrTheSamplesNeighboursAtTheirDecodedPlaces)
   EXPECT_NEAR(x[0], init.x[0] + 0.01f, 1e-6f);
   // Two samples in a 4³ body at dx = 1 cm: their stencils' reach covers the whole body.
   LagrangianQuadrature near(test::exec(), reference, 3, 0.01f, /*search=*/true);
+  EXPECT_EQ(near.last_count(test::exec()), 0);                             // no build yet
   EXPECT_EQ(near.build(test::exec(), map, samples, xhat, vhat).count, n);  // a bound on the neighbours: every point
   EXPECT_EQ(download(test::exec().backend, near.live_count())[0], n);
   EXPECT_EQ(near.last_count(test::exec()), n);
