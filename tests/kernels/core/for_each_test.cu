@@ -40,7 +40,7 @@ TEST(ForEach, VisitsEveryIndexExactlyOnce) {
 
 // A bounded launch runs the indices below its count, each once, however the count compares with the bound and
 // with the blocks the device holds at once (CUDA loops over one resident wave in strides of the grid: a bound
-// of millions is many strides); the count is read where the launch runs, not when it is queued.
+// of millions is many strides).
 TEST(ForEach, BoundedLaunchesVisitEachIndexBelowTheirCountOnce) {
   const Exec& exec = test::exec();
   constexpr Index kBound = 3000017;
