@@ -14,7 +14,8 @@
 #   gravity-manifold  Fig. 21's comparison on the gravity cylinder (the paper's is on the tower): the
 #                     nonlinear map against the linear manifold at the same r = 4, 10 and all points
 #   torsion           Table 3: torsion-tension (r = 7), 50 and all sample points, on particle domains
-#                     (scenes/rom/torsion_tension.toml: the paper's v, stretched to 4 times the length)
+#                     (scenes/rom/torsion_tension.toml: the paper's v, stretched to 4 times the length);
+#                     the reduced step consistent with these data is --schemes domains-position,domains-velocity
 #   torsion-plain     Table 3 on plain material points, the reduced step's discretisation, at v scaled
 #                     by 1/20 (scenes/rom/torsion_tension_plain.toml says why)
 #   super-resolution  Table 4: the torsion map run at the paper's resolution and written at a sampling
@@ -33,7 +34,9 @@
 #                     full-order runs (from the sweep) and reduced runs, and the speed-up
 # --epochs N: training length of each map (default 80, short of convergence on a CPU);
 # --schemes: comma-separated among lagrangian-position, lagrangian-velocity, eulerian-position,
-# eulerian-velocity (default: all four; quadrature, then projection); --samples: comma-separated sample
+# eulerian-velocity (default: all four; quadrature, then projection), and domains-position, domains-velocity
+# (the reduced step through the particle domains' corners, for the experiments on particle-domain data:
+# torsion, super-resolution); --samples: comma-separated sample
 # counts, 0 for all points, in place of the experiment's rows; --jobs N: reduced runs of one table cell
 # at once (default 1; with N > 1 each on one thread unless the options set --threads); --rom-cfl X: the reduced runs'
 # substeps at CFL number X instead of the scene's (romp run --rom-cfl; their files are tagged -cflX);
@@ -52,7 +55,7 @@ set -euo pipefail
 trap 'echo "interrupted" >&2; exit 130' INT TERM
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 romp="${ROMP:-$root/build/romp}"
-usage() { sed -n '7,44p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '7,47p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 [ $# -ge 2 ] || usage
 experiment="$1" out="$2"
 shift 2

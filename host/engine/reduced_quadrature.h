@@ -8,10 +8,15 @@
 // (few points per sample's reach), every point is the quadrature, which gives the samples the same P2G
 // without the search. Eulerian: ℓ points per cell per axis in the cells whose points reach the samples'
 // grid nodes, with g inverted there: its cost depends on the sample count, not on the point count.
+// Domains: every material point through its particle domain's corners, decoded from g, as the full-order
+// step on particle domains transfers (kernels/rom/domain_quadrature.h), for maps trained on such data.
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include "host/engine/deformation_map.h"
 #include "host/engine/quadrature_points.h"
@@ -20,7 +25,9 @@
 #include "kernels/core/exec.h"
 #include "kernels/core/index_select.h"
 #include "kernels/mpm/failed_points.h"
+#include "kernels/mpm/particle_domains.h"
 #include "kernels/mpm/particle_set.h"
+#include "kernels/mpm/step.h"
 #include "kernels/rom/eulerian_quadrature.h"
 #include "kernels/rom/eulerian_warm_start.h"
 #include "kernels/rom/sample_neighbourhood.h"
@@ -39,14 +46,35 @@ class ReducedQuadrature {
   // them on the host; empty otherwise.
   virtual Span<const std::int64_t> live_count() const { return {}; }
 
-  // The positions of the last build's material points, which g gave (they must lie inside the domain; the
-  // substep moves them there when they do not): none for Eulerian points, which lie in cells by construction.
+  // P2G from the last build's points (`points`, its view) into the samples' grid, whose nodes alone are kept:
+  // through each point's own stencil (the MLS force of the ROM paper's Alg. 5).
+  virtual void particles_to_grid(const Exec& exec, const mpm::ParticleView& points, const mpm::GridView& grid,
+                                 const mpm::StepParams& step) {
+    mpm::particle_to_grid_active_nodes(exec, points, grid, step, live_count());
+  }
+  // The points whose stencils G2P at the samples reads, the samples' grid built of them (stencil_points_per_sample()
+  // a sample): the samples themselves.
+  virtual Vec3Planes<const float> sample_stencil_points(const SampleSet& samples) const { return samples.x(); }
+  virtual Index stencil_points_per_sample() const { return 1; }
+  // G2P at the samples: their velocities and trial positions for the projection.
+  virtual void grid_to_samples(const Exec& exec, SampleSet& samples, const mpm::GridView& grid,
+                               const mpm::StepParams& step) {
+    mpm::grid_to_particle(exec, samples.points().view(), grid, step);
+  }
+
+  // The positions of the last build's points that g gave and P2G reads at their own places (they must lie
+  // inside the domain; the substep moves them there when they do not): none for Eulerian points, which lie
+  // in cells by construction.
   virtual Vec3Planes<float> material_positions() = 0;
 
-  // The last build's points as P2G's failure slot and the domain check of material_positions() index them
-  // (mpm::note_failed_points keeps the one a slot names), and how a report names such a point.
+  // The last build's points as P2G's failure slot indexes them (mpm::note_failed_points keeps the one a slot
+  // names), and how a report names such a point.
   virtual mpm::PointSource failure_source() const = 0;
   virtual std::string describe(const mpm::FailedPoint& point) const = 0;
+  // The points of material_positions() as its domain check indexes them, and how a report names one: the
+  // failure source's unless the quadrature places other points than those it reports P2G's failures at.
+  virtual mpm::PointSource outside_source() const { return failure_source(); }
+  virtual std::string describe_outside(std::int64_t point) const { return fmt::format("material point {}", point); }
 
   // The points of the last build (Eulerian: every point inverted, inside the body or not; counted on the
   // device, so this is a download).
@@ -99,6 +127,50 @@ class LagrangianQuadrature final : public ReducedQuadrature {
   DeviceBuffer<std::int64_t> neighbours_so_far_;
   rom::SampleNeighbourhood neighbourhood_;
   IndexSelector select_;
+};
+
+// Every material point a quadrature point through its particle domain, the corners placed by g: the transfer
+// of the full-order step on particle domains (kernels/mpm/particle_domains.h), so that a map trained on such
+// data runs with the discretisation that made it. Every material point must have a domain. The corners of
+// the whole body are decoded each substep (a point's neighbours through shared corners reach far: no search).
+class DomainQuadrature final : public ReducedQuadrature {
+ public:
+  // `domains`: the reference body's (mpm::ParticleInit::domains), `point_domain` each material point's.
+  DomainQuadrature(const Exec& exec, const ReferenceBody& reference, const mpm::DomainInit& domains,
+                   const std::vector<std::int32_t>& point_domain, int latent);
+
+  mpm::ParticleView build(const Exec& exec, const DeformationMap& map, const SampleSet& samples, Span<const float> xhat,
+                          Span<const float> vhat) override;
+  // Through the domains' corners: particles_to_corners, then the corners' stencils.
+  void particles_to_grid(const Exec& exec, const mpm::ParticleView& points, const mpm::GridView& grid,
+                         const mpm::StepParams& step) override;
+  // The corners of the samples' domains (8 a sample), which their velocities are gathered through.
+  Vec3Planes<const float> sample_stencil_points(const SampleSet& samples) const override;
+  Index stencil_points_per_sample() const override { return mpm::kDomainCorners; }
+  void grid_to_samples(const Exec& exec, SampleSet& samples, const mpm::GridView& grid,
+                       const mpm::StepParams& step) override;
+  // The corners, which P2G places on the grid.
+  Vec3Planes<float> material_positions() override { return domains_.view().x; }
+  mpm::PointSource failure_source() const override;
+  std::string describe(const mpm::FailedPoint& point) const override;
+  mpm::PointSource outside_source() const override;
+  std::string describe_outside(std::int64_t corner) const override;
+  Index last_count(const Exec&) const override { return points_.count; }
+  bool builds_on_device(Index) const override { return true; }
+  void account_builds(int builds) override { points_so_far_ += std::int64_t(builds) * points_.count; }
+  std::int64_t points_so_far() const { return points_so_far_; }
+  Index corner_count() const { return domains_.corner_count(); }
+
+ private:
+  int latent_;
+  std::int64_t points_so_far_ = 0;
+  mpm::ParticleDomains domains_;  // the corners' decoded positions and velocities, and P2G's accumulators
+  DeviceBuffer<float> corner_X_;  // the corners' reference positions (3 planes)
+  DeviceBuffer<float> corner_dg_dxhat_;
+  DeviceBuffer<std::int32_t> point_domain_;
+  QuadraturePoints points_;             // every material point, in reference order
+  DeviceBuffer<float> sample_corners_;  // 8 a sample (3 planes of 8 m)
+  Index sample_corner_count_ = 0;
 };
 
 // What the Eulerian quadrature needs of the scene besides the map.

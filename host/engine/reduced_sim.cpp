@@ -64,9 +64,9 @@ FullOrderConfig checked_config(FullOrderConfig config, const mpm::ParticleInit& 
                                const rom::DeformationMapWeights& map, const std::vector<float>& xhat,
                                const ReducedOptions& options) {
   config = reduced_step_config(std::move(config));
-  // Particle domains are a full-order discretisation (they keep the snapshots a model is trained on
-  // free of numerical fracture); the reduced model's material points are the particles themselves,
-  // so `reference.domain` and `reference.domains` are not used here.
+  // Particle domains are a full-order discretisation (they keep the snapshots a model is trained on free of
+  // numerical fracture): the Lagrangian and Eulerian quadratures take the material points as plain
+  // particles and ignore them, the domain quadrature transfers through them (and checks that they exist).
   for (const DirichletSpec& group : config.dirichlet)
     ROMP_CHECK(std::isinf(group.end), "dirichlet.end: a reduced run keeps its Dirichlet groups for the whole run");
   ROMP_CHECK(config.integrator == Integrator::Explicit,
@@ -120,6 +120,8 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   if (options_.quadrature == RomQuadrature::Lagrangian) {
     const bool search = wants_neighbour_search(options_, reference, config_.dx, Index(config_.dirichlet.size()));
     quadrature_ = &lagrangian_.emplace(exec_, reference_, map_.latent(), config_.dx, search);
+  } else if (options_.quadrature == RomQuadrature::Domains) {
+    quadrature_ = &domains_.emplace(exec_, reference_, reference.domains, reference.domain, map_.latent());
   } else {
     quadrature_ = &eulerian_.emplace(exec_, reference, eulerian_settings(config_, options_));
   }
@@ -137,7 +139,8 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
   check_latent("the initial projection");
 
   const Index m = samples_.per_substep();
-  graphs_possible_ = replays_graphs(options_.frame_graphs, exec_) && m <= mpm::SparseGrid::kFewPoints &&
+  graphs_possible_ = replays_graphs(options_.frame_graphs, exec_) &&
+                     m * quadrature_->stencil_points_per_sample() <= mpm::SparseGrid::kFewPoints &&
                      quadrature_->builds_on_device(m) && latent_.projects_on_device(m);
   stages_ = {"samples", "kinematics", "grid_build", "p2g", "grid_update", "g2p", "projection"};
   if (graphs_possible_) stages_.emplace_back("frame_graphs");
@@ -225,21 +228,21 @@ void ReducedSim::run_substep(const mpm::StepParams& step, Index staged_substep) 
     keep_inside_domain(quadrature_->material_positions(), row.slots, kQuadratureOutside, quadrature_->live_count());
   });
   // Alg. 5: P2G from the quadrature points, the grid update, G2P at the samples, on a grid of the samples'
-  // stencils alone: G2P reads no other node and the update goes node by node, so the quadrature's shares
-  // elsewhere change nothing the samples see and are dropped. (An Eulerian sample is no quadrature point,
-  // ROM paper, Fig. 6: a node of its stencil may get no mass, and its velocity is then 0, as on the paper's
-  // dense grid.) A few samples' grid is built without reading its block count back.
+  // stencils alone (with domains, their corners'): G2P reads no other node and the update goes node by node,
+  // so the quadrature's shares elsewhere change nothing the samples see and are dropped. (An Eulerian sample
+  // is no quadrature point, ROM paper, Fig. 6: a node of its stencil may get no mass, and its velocity is then
+  // 0, as on the paper's dense grid.) A few samples' grid is built without reading its block count back.
   timed([&] {
-    if (samples_.count() <= mpm::SparseGrid::kFewPoints)
-      grid_.rebuild_for_few_points(exec_, samples_.x());
+    const Vec3Planes<const float> stencil_points = quadrature_->sample_stencil_points(samples_);
+    if (stencil_points.count() <= mpm::SparseGrid::kFewPoints)
+      grid_.rebuild_for_few_points(exec_, stencil_points);
     else
-      grid_.rebuild(exec_, samples_.x());
+      grid_.rebuild(exec_, stencil_points);
   });
   const mpm::GridView grid = grid_.view();
-  timed([&] { mpm::particle_to_grid_active_nodes(exec_, quadrature, grid, step, quadrature_->live_count()); });
+  timed([&] { quadrature_->particles_to_grid(exec_, quadrature, grid, step); });
   timed([&] { mpm::update_grid(exec_, grid, step); });
-  const mpm::ParticleView samples = samples_.points().view();
-  timed([&] { mpm::grid_to_particle(exec_, samples, grid, step); });
+  timed([&] { quadrature_->grid_to_samples(exec_, samples_, grid, step); });
   // Alg. 6 / 7: v̂_{n+1} and x̂_{n+1}, solved where the system is, then what the read-back needs of this
   // substep copied into its row before the next substep reuses the buffers: the new state and the points
   // that the failure slots name.
@@ -257,7 +260,7 @@ void ReducedSim::run_substep(const mpm::StepParams& step, Index staged_substep) 
         mpm::FailedPointNote{step.first_failure.subspan(int(mpm::Stage::P2G), 1), quadrature_points, record(kP2GPoint)},
         mpm::FailedPointNote{step.first_failure.subspan(int(mpm::Stage::G2P), 1), sample_points, record(kG2PPoint)},
         mpm::FailedPointNote{row.slots.subspan(kSampleOutside, 1), sample_points, record(kSampleOutsidePoint)},
-        mpm::FailedPointNote{row.slots.subspan(kQuadratureOutside, 1), quadrature_points,
+        mpm::FailedPointNote{row.slots.subspan(kQuadratureOutside, 1), quadrature_->outside_source(),
                              record(kQuadratureOutsidePoint)}};
     mpm::note_failed_points(exec_, notes, int(notes.size()));
   });
@@ -338,13 +341,14 @@ void ReducedSim::throw_if_outside_domain(int row) {
     low[a] = domain.low_bound(config_.dx);
     high[a] = domain.high_bound(a, config_.dx);
   }
+  const std::string name = sample ? fmt::format("material point {}", point) : quadrature_->describe_outside(point);
   throw NonFiniteError(
       fmt::format(
-          "reduced simulation: material point {} decodes to ({:.4g}, {:.4g}, {:.4g}) m at step {} (t = {:.6g} "
+          "reduced simulation: {} decodes to ({:.4g}, {:.4g}, {:.4g}) m at step {} (t = {:.6g} "
           "s), outside the domain's interior [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] m: x̂ = [{}] "
           "has left the states the map describes (the reduced dynamics diverged)",
-          point, position[0], position[1], position[2], steps_, time_, low[0], high[0], low[1], high[1], low[2],
-          high[2], fmt::join(xhat_, ", ")),
+          name, position[0], position[1], position[2], steps_, time_, low[0], high[0], low[1], high[1], low[2], high[2],
+          fmt::join(xhat_, ", ")),
       steps_, mpm::Stage::P2G, point);
 }
 

@@ -40,7 +40,10 @@
 
 namespace romp::engine {
 
-enum class RomQuadrature { Lagrangian, Eulerian };
+// Lagrangian: material points (ROM paper, Alg. 3); Eulerian: points inverted in the samples' cells (Alg. 4);
+// Domains: every material point through its particle domain's corners placed by g, the transfer of the
+// full-order step on particle domains that made such a model's data (reduced_quadrature.h, DomainQuadrature).
+enum class RomQuadrature { Lagrangian, Eulerian, Domains };
 
 // Whether the quadrature keeps only the samples' neighbours, the points whose stencils reach a sample's
 // grid nodes (the samples' P2G is the same either way). Lagrangian: the neighbours are searched among
@@ -160,8 +163,13 @@ class ReducedSim {
   // The quadrature points of the last substep: Lagrangian, the samples and their neighbours or every
   // material point; Eulerian, the points inverted (inside the body or not; P2G reads those inside).
   Index last_quadrature_count() const { return quadrature_->last_count(exec_); }
-  // Lagrangian quadrature points summed over the substeps so far (with the neighbour search, a download).
-  std::int64_t lagrangian_quadrature_points() const { return lagrangian_ ? lagrangian_->points_so_far(exec_) : 0; }
+  // Domain quadrature: the corners g places each substep (0 for the other quadratures).
+  Index domain_corners() const { return domains_ ? domains_->corner_count() : 0; }
+  // Lagrangian (or domain) quadrature points summed over the substeps so far (with the neighbour search, a
+  // download).
+  std::int64_t lagrangian_quadrature_points() const {
+    return lagrangian_ ? lagrangian_->points_so_far(exec_) : domains_ ? domains_->points_so_far() : 0;
+  }
   std::vector<std::pair<std::string, double>> stage_seconds() const;
   // Each stage's launches so far (memory::Traffic::launches): on CUDA, outside a graph, a few microseconds
   // of the host's time each. Frames run as graphs count in the last stage, "frame_graphs" (where they can), one launch
@@ -216,9 +224,10 @@ class ReducedSim {
   DeformationMap map_;
   ReferenceBody reference_;
   SampleSet samples_;
-  // The quadrature: one of the two, and `quadrature_` pointing to it.
+  // The quadrature: one of the three, and `quadrature_` pointing to it.
   std::optional<LagrangianQuadrature> lagrangian_;
   std::optional<EulerianQuadrature> eulerian_;
+  std::optional<DomainQuadrature> domains_;
   ReducedQuadrature* quadrature_ = nullptr;
   LatentProjection latent_;
 

@@ -14,8 +14,10 @@ void add_reduced_run_options(CLI::App& run, ReducedRunOptions& options) {
                          ->excludes("--resume");
   run.add_option(
          "--quadrature", options.quadrature,
-         "Reduced-order quadrature: eulerian (cost follows the samples) or lagrangian (the samples' neighbours)")
-      ->check(CLI::IsMember({"eulerian", "lagrangian"}));
+         "Reduced-order quadrature: eulerian (cost follows the samples), lagrangian (the samples' neighbours), or "
+         "domains (every point through its particle domain's corners, as the full-order step on particle domains "
+         "transfers: for a model trained on a scene with domains = true)")
+      ->check(CLI::IsMember({"eulerian", "lagrangian", "domains"}));
   run.add_option("--projection", options.projection,
                  "Reduced-order projection: velocity (Alg. 7) or position (position-velocity, Alg. 6)")
       ->check(CLI::IsMember({"velocity", "position"}));
@@ -37,16 +39,23 @@ std::unique_ptr<Simulation> make_reduced_simulation(const ReducedRunOptions& opt
                                                     const scene::SceneSetup& setup) {
   engine::LoadedReducedModel model = engine::load_reduced_model(options.model, setup.particles);
   spdlog::info("{}", model.description);
-  // (Scenes with particle domains move their full-order particles through the domains' corners, a
-  // discretisation the reduced step does not share whatever the transfer; scenes/README.md.)
+  // (Scenes with particle domains move their full-order particles through the domains' corners, which only
+  // the domain quadrature shares, whatever the transfer; scenes/README.md.)
+  if (!setup.particles.domains.empty() && options.quadrature != "domains")
+    spdlog::warn(
+        "this scene's full-order runs move their particles through particle domains, which the {} quadrature "
+        "does not: reduced runs will drift from them at large stretches; --quadrature domains transfers as they "
+        "do",
+        options.quadrature);
   if (setup.config.transfer == mpm::Transfer::Apic && setup.particles.domains.empty())
     spdlog::warn(
         "the reduced step transfers by PIC (ROM paper, Alg. 5) and this scene's full-order runs by APIC: "
         "reduced runs will drift from them by the difference (3.3 % on the gravity cylinder); give the "
         "scene [solver] transfer = \"pic-flip\", flip_alpha = 0 for its sweep and its reduced runs");
   engine::ReducedOptions reduced;
-  reduced.quadrature =
-      options.quadrature == "eulerian" ? engine::RomQuadrature::Eulerian : engine::RomQuadrature::Lagrangian;
+  reduced.quadrature = options.quadrature == "eulerian"  ? engine::RomQuadrature::Eulerian
+                       : options.quadrature == "domains" ? engine::RomQuadrature::Domains
+                                                         : engine::RomQuadrature::Lagrangian;
   reduced.projection =
       options.projection == "velocity" ? engine::RomProjection::Velocity : engine::RomProjection::PositionVelocity;
   reduced.samples = options.samples;

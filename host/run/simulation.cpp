@@ -117,6 +117,11 @@ class ReducedRun final : public Simulation {
           fmt::format("Lagrangian quadrature: the samples and their neighbours, {:.0f} of {} material "
                       "points per substep on average",
                       double(sim_.lagrangian_quadrature_points()) / double(sim_.steps()), X_.size() / 3));
+    if (sim_.domain_corners() > 0)
+      lines.push_back(
+          fmt::format("domain quadrature: every material point through its particle domain, {} "
+                      "corners placed by the map per substep",
+                      sim_.domain_corners()));
     const std::int64_t points =
         sim_.quadrature_points_used() + sim_.quadrature_points_outside() + sim_.quadrature_points_unconverged();
     if (points > 0)

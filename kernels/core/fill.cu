@@ -23,5 +23,6 @@ void fill(const Exec& exec, Span<T> values, T value) {
 }
 
 template void fill<std::int64_t>(const Exec&, Span<std::int64_t>, std::int64_t);
+template void fill<float>(const Exec&, Span<float>, float);
 
 }  // namespace romp

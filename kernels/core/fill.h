@@ -7,7 +7,8 @@
 namespace romp {
 
 // Ordered on exec's stream and asynchronous on CUDA, where an upload of the same values would be a
-// blocking round trip. Instantiated for std::int64_t (failure and search slots reset every substep).
+// blocking round trip (and a CUDA graph could not hold it). Instantiated for std::int64_t (failure and search
+// slots reset every substep) and float (the particle domains' stiffening).
 template <class T>
 void fill(const Exec& exec, Span<T> values, T value);
 

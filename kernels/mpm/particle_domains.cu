@@ -6,6 +6,7 @@
 #include <string>
 
 #include "kernels/core/error.h"
+#include "kernels/core/fill.h"
 #include "kernels/core/for_each.h"
 #include "kernels/core/memory.h"
 #include "kernels/core/replace_value.h"
@@ -83,6 +84,9 @@ struct ParticlesToCorners {
   }
 };
 
+// kActiveNodesOnly: the grid holds only some of the corners' stencil blocks (a reduced step's grid of its
+// samples' corners), the others' shares are dropped, and it may keep no velocity before forces.
+template <bool kActiveNodesOnly>
 struct CornersToGrid {
   DomainView domains;
   GridView grid;
@@ -106,12 +110,14 @@ struct CornersToGrid {
     }
     const QuadraticStencil<float> stencil(domains.x.load(c), grid.inverse_dx);
     const StencilNodes nodes(stencil, grid.table);
+    const bool flip = !kActiveNodesOnly || grid.keeps_old_velocity();
     for_each_stencil_offset([&](int i, int j, int k) {
+      if (kActiveNodesOnly && !nodes.active(i, j, k)) return;
       const float w = stencil.weight(i, j, k);
       const Index n = nodes.node(i, j, k);
       scatter.add(&grid.mass[n], w * mass);
       scatter.add(grid.velocity, n, w * impulse);
-      scatter.add(grid.velocity_old, n, w * momentum);
+      if (flip) scatter.add(grid.velocity_old, n, w * momentum);
     });
   }
 };
@@ -185,16 +191,13 @@ struct CornersToParticles {
       Vec3<float> v_pic = Vec3<float>::zero(), dv_flip = Vec3<float>::zero();
       Mat3<float> displacement_gradient = Mat3<float>::zero();  // ∇_X Δx, in the reference configuration
       x = Vec3<float>::zero();
-      for (int a = 0; a < kDomainCorners; ++a) {
-        const Index entry = kDomainCorners * d + a;
-        const Index c = domains.corner[entry];
-        const float w = domains.weight[entry];
+      for_each_domain_corner(domains, d, [&](Index c, float w, const Vec3<float>& gradient) {
         const Vec3<float> v_corner = domains.v.load(c);
         v_pic += w * v_corner;
         dv_flip += w * (v_corner - domains.v_old.load(c));
-        displacement_gradient += Mat3<float>::outer(domains.moved.load(c), domains.gradient.load(entry));
+        displacement_gradient += Mat3<float>::outer(domains.moved.load(c), gradient);
         x += w * domains.x.load(c);
-      }
+      });
       v = step.flip_alpha * (particles.v.load(p) + dv_flip) + (1.0f - step.flip_alpha) * v_pic;
       // C is the spatial velocity gradient ∇_X Δx F⁻¹ / Δt (what outputs report); a flat domain has none.
       const float J = determinant(F);
@@ -321,14 +324,18 @@ void particles_to_corners(const Exec& exec, const ParticleView& particles, const
     memory::fill_zero(domains.momentum.data() + a * domains.corners, exec.backend, bytes, exec.stream);
     memory::fill_zero(domains.force.data() + a * domains.corners, exec.backend, bytes, exec.stream);
   }
-  const float at_rest = 1.0f;
-  memory::upload(domains.stiffening.data(), exec.backend, &at_rest, sizeof at_rest, exec.stream);
+  fill(exec, domains.stiffening.subspan(0, 1), 1.0f);  // at rest
   for_each(exec, particles.count, ParticlesToCorners{particles, domains, step, Scatter::for_exec(exec)});
 }
 
 void corners_to_grid(const Exec& exec, const DomainView& domains, const GridView& grid, const StepParams& step) {
   ROMP_CHECK(grid.keeps_old_velocity(), "corners_to_grid needs a grid that keeps the velocity before forces (FLIP)");
-  for_each(exec, domains.corners, CornersToGrid{domains, grid, step, Scatter::for_exec(exec)});
+  for_each(exec, domains.corners, CornersToGrid<false>{domains, grid, step, Scatter::for_exec(exec)});
+}
+
+void corners_to_active_nodes(const Exec& exec, const DomainView& domains, const GridView& grid,
+                             const StepParams& step) {
+  for_each(exec, domains.corners, CornersToGrid<true>{domains, grid, step, Scatter::for_exec(exec)});
 }
 
 void grid_to_corners(const Exec& exec, const DomainView& domains, const GridView& grid, const StepParams& step) {

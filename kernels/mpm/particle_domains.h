@@ -58,6 +58,15 @@ struct DomainView {
   Span<float> stiffening;                 // [0]: domain_stiffening of this substep's particles
 };
 
+// Visits the 8 corners of domain d as visit(corner index, ω_αd, g_αd), α in order.
+template <class Visit>
+ROMP_HD_INLINE void for_each_domain_corner(const DomainView& domains, Index d, const Visit& visit) {
+  for (int a = 0; a < kDomainCorners; ++a) {
+    const Index entry = kDomainCorners * d + a;
+    visit(Index(domains.corner[entry]), domains.weight[entry], domains.gradient.load(entry));
+  }
+}
+
 // How much the squared elastic wave speed of a particle at F may exceed its value at rest, an
 // estimate without an SVD: max(1, ‖F̃‖²/3, ‖cof F̃‖²/3), F̃ with the inversion clamp. Stiffness grows
 // with deformation (fixed corotated's volumetric term is λ ‖∂J/∂F‖² = λ ‖cof F‖²), and enriched
@@ -137,6 +146,10 @@ void release_domains(const Exec& exec, const ParticleView& particles, const Regi
 void particles_to_corners(const Exec& exec, const ParticleView& particles, const DomainView& domains,
                           const StepParams& step);
 void corners_to_grid(const Exec& exec, const DomainView& domains, const GridView& grid, const StepParams& step);
+// corners_to_grid into a grid that holds only some of the corners' stencils (a reduced step's, built around
+// its samples): the shares of nodes outside it are dropped, and the velocity before forces is kept only where
+// the grid keeps it. For unenriched corners.
+void corners_to_active_nodes(const Exec& exec, const DomainView& domains, const GridView& grid, const StepParams& step);
 void grid_to_corners(const Exec& exec, const DomainView& domains, const GridView& grid, const StepParams& step);
 void corners_to_particles(const Exec& exec, const ParticleView& particles, const DomainView& domains,
                           const StepParams& step);

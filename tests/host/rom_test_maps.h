@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "kernels/math/mat3.h"
 #include "kernels/rom/deformation_map_eval.h"
 
 namespace romp::test {
@@ -18,6 +19,15 @@ inline rom::DeformationMapWeights translation_map() {
   for (int row = 0; row < 3; ++row) map.parameters[std::size_t(row * 6 + row)] = 1.0f;  // weight [3 × 6], bias [3]
   map.X_scale = Vec3<float>::constant(1.0f);
   map.u_std = Vec3<float>::constant(1.0f);
+  return map;
+}
+
+// The translation family on a fixed affine deformation: g(X; x̂) = X + E X + x̂ (r = 3), F = I + E
+// everywhere, a one-layer (linear) map.
+inline rom::DeformationMapWeights strained_translation_map(const Mat3<float>& E) {
+  rom::DeformationMapWeights map = translation_map();
+  for (int row = 0; row < 3; ++row)
+    for (int c = 0; c < 3; ++c) map.parameters[std::size_t(row * 6 + 3 + c)] = E(row, c);
   return map;
 }
 

@@ -43,6 +43,14 @@ mpm::ParticleInit cube() {
   return init;
 }
 
+// cube() with every particle's lattice cell as its domain.
+mpm::ParticleInit cube_with_domains() {
+  mpm::ParticleInit init =
+      test::lattice_box_with_domains(Vec3<float>::constant(0.375f), Vec3<float>::constant(0.625f), kDx, 2, 1000.0f);
+  for (Index p = 0; p < init.count(); ++p) test::set_plane_vector(init.v, init.count(), p, kInitialVelocity);
+  return init;
+}
+
 // The reference trajectory, run once per test binary.
 const std::vector<float>& full_order_positions() {
   static const std::vector<float> positions = [] {
@@ -87,15 +95,36 @@ TEST(ReducedSim, PositionVelocityProjectionReproducesTheFullOrderTranslation) {
 // Domains are the full-order engine's: a reference whose particles have them runs the same reduced
 // trajectory as one without.
 TEST(ReducedSim, ParticleDomainsOfTheReferenceAreIgnored) {
-  mpm::ParticleInit with_domains =
-      geometry::sample_box_with_domains(Vec3<float>::constant(0.375f), Vec3<float>::constant(0.625f),
-                                        geometry::SamplingSpec{geometry::SamplingMethod::Lattice, 2, kDx}, 1000.0f);
-  for (Index p = 0; p < with_domains.count(); ++p)
-    test::set_plane_vector(with_domains.v, with_domains.count(), p, kInitialVelocity);
-  engine::ReducedSim sim(test::exec(), falling_config(), with_domains, test::translation_map(), {0.0f, 0.0f, 0.0f}, {});
+  engine::ReducedSim sim(test::exec(), falling_config(), cube_with_domains(), test::translation_map(),
+                         {0.0f, 0.0f, 0.0f}, {});
   for (int s = 0; s < kSteps; ++s) sim.substep(kDt);
   // Equal up to the order in which threads' float atomics sum (seen under a loaded ctest: 3e-8 m).
   EXPECT_LE(largest_difference(sim.decode_positions(), reduced_positions({})), 1e-6f);
+}
+
+// The domain quadrature on the same translation: the full-order step on particle domains keeps it, and so
+// does the reduced step through the domains' corners, with every point or a few samples.
+TEST(ReducedSim, DomainQuadratureReproducesTheFullOrderTranslationOnDomains) {
+  const mpm::ParticleInit with_domains = cube_with_domains();
+  engine::FullOrderSim full(test::exec(), falling_config(), with_domains);
+  for (int s = 0; s < kSteps; ++s) full.substep(kDt);
+  const std::vector<float> expected = full.particles().positions_in_initial_order(full.exec());
+  for (const Index samples : {Index(0), Index(10)}) {
+    engine::ReducedOptions options;
+    options.quadrature = engine::RomQuadrature::Domains;
+    options.samples = samples;
+    engine::ReducedSim sim(test::exec(), falling_config(), with_domains, test::translation_map(), {0.0f, 0.0f, 0.0f},
+                           options);
+    for (int s = 0; s < kSteps; ++s) sim.substep(kDt);
+    EXPECT_LT(largest_difference(expected, sim.decode_positions()), kTrajectoryTolerance) << samples << " samples";
+    EXPECT_EQ(sim.lagrangian_quadrature_points(), kSteps * with_domains.count());  // every point, through its domain
+  }
+  // A body without domains has none to transfer through.
+  engine::ReducedOptions options;
+  options.quadrature = engine::RomQuadrature::Domains;
+  EXPECT_THROW(
+      engine::ReducedSim(test::exec(), falling_config(), cube(), test::translation_map(), {0.0f, 0.0f, 0.0f}, options),
+      Error);
 }
 
 TEST(ReducedSim, TenSamplesFollowTheSameTrajectoryAsEveryPoint) {
@@ -298,8 +327,9 @@ engine::ReducedSim pushed_cube(engine::RomQuadrature quadrature, engine::RomProj
   options.samples = search == engine::NeighbourSearch::Always ? 2 : 10;
   options.seed = 3;
   options.frame_graphs = frame_graphs ? engine::GraphReplay::Always : engine::GraphReplay::Never;
-  return engine::ReducedSim(test::exec_with_threads(1), config, cube(), test::translation_map(), {0.0f, 0.0f, 0.0f},
-                            options);
+  return engine::ReducedSim(test::exec_with_threads(1), config,
+                            quadrature == engine::RomQuadrature::Domains ? cube_with_domains() : cube(),
+                            test::translation_map(), {0.0f, 0.0f, 0.0f}, options);
 }
 
 // Bit for bit on one CPU thread; on CUDA the grid's float atomics sum in any order, so to rounding there.
@@ -310,7 +340,8 @@ TEST(ReducedSim, FramesReplayedAsGraphsMatchFramesRunSubstepBySubstep) {
   };
   for (const Quadrature q : {Quadrature{engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Never},
                              Quadrature{engine::RomQuadrature::Lagrangian, engine::NeighbourSearch::Always},
-                             Quadrature{engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Never}})
+                             Quadrature{engine::RomQuadrature::Eulerian, engine::NeighbourSearch::Never},
+                             Quadrature{engine::RomQuadrature::Domains, engine::NeighbourSearch::Never}})
     for (const engine::RomProjection projection :
          {engine::RomProjection::Velocity, engine::RomProjection::PositionVelocity}) {
       SCOPED_TRACE(
