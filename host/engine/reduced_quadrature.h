@@ -160,6 +160,8 @@ class DomainQuadrature final : public ReducedQuadrature {
   void account_builds(int builds) override { points_so_far_ += std::int64_t(builds) * points_.count; }
   std::int64_t points_so_far() const { return points_so_far_; }
   Index corner_count() const { return domains_.corner_count(); }
+  // The largest mpm::domain_stiffening of the last build's points (one value on the device, written by P2G).
+  Span<const float> stiffening() { return domains_.view().stiffening; }
 
  private:
   int latent_;

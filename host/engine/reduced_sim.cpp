@@ -115,8 +115,9 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
               {options.gauss_newton_iterations, options.gauss_newton_tolerance}),
       xhat_(std::move(xhat)),
       stage_timeline_(exec_) {
-  // A row per substep: its failure slots and records, its samples' largest speed and [x̂ | v̂ | status].
-  inputs_.reserve_readback(2 * map_.latent() + 1, kReadbackSlots, kMostSubstepsPerReadback);
+  // A row per substep: its failure slots and records, its samples' largest speed and [x̂ | v̂ | status |
+  // the domains' stiffening].
+  inputs_.reserve_readback(2 * map_.latent() + 2, kReadbackSlots, kMostSubstepsPerReadback);
   if (options_.quadrature == RomQuadrature::Lagrangian) {
     const bool search = wants_neighbour_search(options_, reference, config_.dx, Index(config_.dirichlet.size()));
     quadrature_ = &lagrangian_.emplace(exec_, reference_, map_.latent(), config_.dx, search);
@@ -155,7 +156,12 @@ Error ReducedSim::singular_projection() const {
 
 float ReducedSim::stable_dt() const {
   if (config_.fixed_dt > 0.0f) return config_.fixed_dt;
-  return std::min(config_.max_dt, config_.cfl * config_.dx / (inputs_.max_wave_speed() + max_sample_speed_));
+  return std::min(config_.max_dt, config_.cfl * config_.dx / (wave_speed() + max_sample_speed_));
+}
+
+float ReducedSim::wave_speed() const {
+  // Deformed domains are stiffer than at rest (mpm::domain_stiffening), as in the full-order step on them.
+  return inputs_.max_wave_speed() * std::sqrt(stiffening_);
 }
 
 void ReducedSim::substeps(float dt, int count) {
@@ -251,6 +257,9 @@ void ReducedSim::run_substep(const mpm::StepParams& step, Index staged_substep) 
     const Span<const float> state = latent_.state();
     memory::copy(row.values.data(), exec_.backend, state.data(), exec_.backend,
                  std::size_t(state.size()) * sizeof(float), exec_.stream);
+    if (domains_)
+      memory::copy(row.values.data() + state.size(), exec_.backend, domains_->stiffening().data(), exec_.backend,
+                   sizeof(float), exec_.stream);
     const mpm::PointSource sample_points{samples_.x(), samples_.X(), samples_.index()};
     const mpm::PointSource quadrature_points = quadrature_->failure_source();
     auto record = [&row](FailedPointRecord r) {
@@ -271,7 +280,8 @@ void ReducedSim::accept_substeps(float dt, int count) {
   // One round trip for all the substeps.
   ROMP_CHECK(inputs_.read_back() == count, "a read-back per accept_substeps");
   float speed = 0.0f;
-  const double wave_speed = inputs_.max_wave_speed();
+  const double wave_speed = this->wave_speed();
+  float stiffening = 1.0f;
   for (int k = 0; k < count; ++k) {
     // The points outside the domain and the stages' failure slots (reported in this order, and before the
     // projection's result: each later stage ran on what the earlier one found), then the new state. A
@@ -291,6 +301,7 @@ void ReducedSim::accept_substeps(float dt, int count) {
     if (latent[2 * r] != rom::kLatentSolved) throw singular_projection();
     xhat_.assign(latent.begin(), latent.begin() + r);
     vhat_.assign(latent.begin() + r, latent.begin() + 2 * r);
+    if (domains_) stiffening = std::max(stiffening, latent[2 * r + 1]);
     check_latent("the projection");
     largest_cfl_ = std::max(largest_cfl_, double(dt) * (wave_speed + last_sample_speed_) / config_.dx);
     last_sample_speed_ = inputs_.largest_speed(k);
@@ -298,8 +309,10 @@ void ReducedSim::accept_substeps(float dt, int count) {
     time_ += dt;
     ++steps_;
   }
-  // The next substeps' CFL step holds for the fastest the samples went in these.
+  // The next substeps' CFL step holds for the fastest the samples went in these, and the stiffest their domains
+  // were.
   max_sample_speed_ = speed;
+  stiffening_ = stiffening;
 }
 
 mpm::FailedPoint ReducedSim::failed_point(int row, FailedPointRecord record) const {

@@ -100,7 +100,8 @@ class ReducedSim {
   ReducedSim(const ReducedSim&) = delete;
   ReducedSim& operator=(const ReducedSim&) = delete;
 
-  // The CFL step from the wave speed and the samples' largest speed in the last read-back's substeps.
+  // The CFL step from the wave speed and the samples' largest speed in the last read-back's substeps (with the
+  // domain quadrature, the wave speed of its domains' largest stiffening in them, as the full-order step).
   float stable_dt() const;
   // `count` substeps of dt, at most kMostSubstepsPerReadback, with one read-back after the last (a blocking
   // round trip on CUDA): until then nothing waits on the device, and the substeps could be replayed as a
@@ -182,6 +183,8 @@ class ReducedSim {
   std::int64_t graph_frames() const { return graph_frames_; }
 
  private:
+  // The elastic wave speed the CFL step takes: at rest, scaled by the domains' stiffening.
+  float wave_speed() const;
   // Throws NonFiniteError when x̂ or v̂ is not finite after `stage`.
   void check_latent(const char* stage) const;
   // A read-back row's own slots: the first point outside the domain, of the samples and of the quadrature's
@@ -234,6 +237,7 @@ class ReducedSim {
   std::vector<float> xhat_, vhat_;  // [x̂ | v̂] after the last substep read back
   float max_sample_speed_ = 0.0f;   // the samples' largest in the substeps of the last read-back
   float last_sample_speed_ = 0.0f;  // theirs after the last substep read back
+  float stiffening_ = 1.0f;         // the domains' largest in the substeps of the last read-back (1 without)
   double largest_cfl_ = 0.0;
   double time_ = 0.0;
   std::int64_t steps_ = 0;

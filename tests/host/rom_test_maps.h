@@ -22,12 +22,16 @@ inline rom::DeformationMapWeights translation_map() {
   return map;
 }
 
-// The translation family on a fixed affine deformation: g(X; x̂) = X + E X + x̂ (r = 3), F = I + E
-// everywhere, a one-layer (linear) map.
-inline rom::DeformationMapWeights strained_translation_map(const Mat3<float>& E) {
+// The translation family on a fixed affine deformation about `center`: g(X; x̂) = X + E (X − center) + x̂
+// (r = 3), F = I + E everywhere, a one-layer (linear) map.
+inline rom::DeformationMapWeights strained_translation_map(const Mat3<float>& E,
+                                                           const Vec3<float>& center = Vec3<float>::zero()) {
   rom::DeformationMapWeights map = translation_map();
-  for (int row = 0; row < 3; ++row)
+  const Vec3<float> shift = E * center;
+  for (int row = 0; row < 3; ++row) {
     for (int c = 0; c < 3; ++c) map.parameters[std::size_t(row * 6 + 3 + c)] = E(row, c);
+    map.parameters[std::size_t(18 + row)] = -shift[row];  // the bias, after the 3 × 6 weight
+  }
   return map;
 }
 

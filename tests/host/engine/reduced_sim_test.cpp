@@ -127,6 +127,35 @@ TEST(ReducedSim, DomainQuadratureReproducesTheFullOrderTranslationOnDomains) {
       Error);
 }
 
+// As the full-order step on particle domains, the domain quadrature's CFL step follows its stiffest domain: a
+// body stretched to twice its length along x (F = diag(2, 1, 1): ‖cof F‖² / 3 = 3) takes a step √3 times
+// shorter than at rest, which the Lagrangian quadrature's step (the wave speed at rest) does not see.
+TEST(ReducedSim, DomainQuadratureStepsFollowTheStiffestDomain) {
+  Mat3<float> stretch = Mat3<float>::zero();
+  stretch(0, 0) = 1.0f;
+  engine::FullOrderConfig config = falling_config();
+  config.gravity = Vec3<float>::zero();
+  config.max_dt = 1.0f;  // the CFL step alone
+  auto stable_dt = [&](engine::RomQuadrature quadrature) {
+    engine::ReducedOptions options;
+    options.quadrature = quadrature;
+    mpm::ParticleInit body = cube_with_domains();
+    std::fill(body.v.begin(), body.v.end(), 0.0f);
+    engine::ReducedSim sim(test::exec(), config, body,
+                           test::strained_translation_map(stretch, Vec3<float>::constant(0.5f)), {0.0f, 0.0f, 0.0f},
+                           options);
+    const float at_rest = sim.stable_dt();
+    sim.substep(1e-7f);  // the body barely moves: its speed stays far below the wave speed
+    EXPECT_EQ(sim.stable_dt() <= at_rest, true);
+    return std::pair<float, float>(at_rest, sim.stable_dt());
+  };
+  const auto [rest_domains, stretched_domains] = stable_dt(engine::RomQuadrature::Domains);
+  const auto [rest_points, stretched_points] = stable_dt(engine::RomQuadrature::Lagrangian);
+  EXPECT_EQ(rest_domains, rest_points);
+  EXPECT_NEAR(stretched_points / rest_points, 1.0f, 1e-3f);
+  EXPECT_NEAR(stretched_domains / rest_domains, 1.0f / std::sqrt(3.0f), 1e-3f);
+}
+
 TEST(ReducedSim, TenSamplesFollowTheSameTrajectoryAsEveryPoint) {
   engine::ReducedOptions hyper;
   hyper.samples = 10;
