@@ -136,12 +136,14 @@ class LagrangianQuadrature final : public ReducedQuadrature {
 class DomainQuadrature final : public ReducedQuadrature {
  public:
   // `domains`: the reference body's (mpm::ParticleInit::domains), `point_domain` each material point's.
+  // `enrichment_threshold`: the full-order step's (FullOrderConfig), whose corners of badly deformed domains
+  // integrate on their own each substep (dynamic enrichment); 0: none.
   DomainQuadrature(const Exec& exec, const ReferenceBody& reference, const mpm::DomainInit& domains,
-                   const std::vector<std::int32_t>& point_domain, int latent);
+                   const std::vector<std::int32_t>& point_domain, int latent, float enrichment_threshold);
 
   mpm::ParticleView build(const Exec& exec, const DeformationMap& map, const SampleSet& samples, Span<const float> xhat,
                           Span<const float> vhat) override;
-  // Through the domains' corners: particles_to_corners, then the corners' stencils.
+  // Through the domains' corners: the enrichment marked, particles_to_corners, then the corners' stencils.
   void particles_to_grid(const Exec& exec, const mpm::ParticleView& points, const mpm::GridView& grid,
                          const mpm::StepParams& step) override;
   // The corners of the samples' domains (8 a sample), which their velocities are gathered through.
@@ -160,11 +162,16 @@ class DomainQuadrature final : public ReducedQuadrature {
   void account_builds(int builds) override { points_so_far_ += std::int64_t(builds) * points_.count; }
   std::int64_t points_so_far() const { return points_so_far_; }
   Index corner_count() const { return domains_.corner_count(); }
+  // The length the CFL step takes instead of the cell where corners may be enriched, as the full-order step:
+  // the shortest edge of a reference domain.
+  bool enriches() const { return enrichment_threshold_ > 0.0f; }
+  float smallest_edge() const { return domains_.smallest_edge(); }
   // The largest mpm::domain_stiffening of the last build's points (one value on the device, written by P2G).
   Span<const float> stiffening() { return domains_.view().stiffening; }
 
  private:
   int latent_;
+  float enrichment_threshold_;
   std::int64_t points_so_far_ = 0;
   mpm::ParticleDomains domains_;  // the corners' decoded positions and velocities, and P2G's accumulators
   DeviceBuffer<float> corner_X_;  // the corners' reference positions (3 planes)

@@ -8,8 +8,9 @@
 namespace romp::engine {
 
 DomainQuadrature::DomainQuadrature(const Exec& exec, const ReferenceBody& reference, const mpm::DomainInit& domains,
-                                   const std::vector<std::int32_t>& point_domain, int latent)
-    : latent_(latent), domains_(exec.backend, domains) {
+                                   const std::vector<std::int32_t>& point_domain, int latent,
+                                   float enrichment_threshold)
+    : latent_(latent), enrichment_threshold_(enrichment_threshold), domains_(exec.backend, domains) {
   ROMP_CHECK(!domains.empty() && Index(point_domain.size()) == reference.count,
              "the domain quadrature needs a body sampled with particle domains (the object's domains = true)");
   for (std::size_t p = 0; p < point_domain.size(); ++p)
@@ -49,6 +50,7 @@ mpm::ParticleView DomainQuadrature::build(const Exec& exec, const DeformationMap
 void DomainQuadrature::particles_to_grid(const Exec& exec, const mpm::ParticleView& points, const mpm::GridView& grid,
                                          const mpm::StepParams& step) {
   const mpm::DomainView domains = domains_.view();
+  if (enriches()) mpm::mark_enrichment(exec, points, domains, step, enrichment_threshold_);
   mpm::particles_to_corners(exec, points, domains, step);
   mpm::corners_to_active_nodes(exec, domains, grid, step);
 }

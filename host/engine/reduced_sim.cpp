@@ -122,7 +122,8 @@ ReducedSim::ReducedSim(const Exec& exec, FullOrderConfig config, const mpm::Part
     const bool search = wants_neighbour_search(options_, reference, config_.dx, Index(config_.dirichlet.size()));
     quadrature_ = &lagrangian_.emplace(exec_, reference_, map_.latent(), config_.dx, search);
   } else if (options_.quadrature == RomQuadrature::Domains) {
-    quadrature_ = &domains_.emplace(exec_, reference_, reference.domains, reference.domain, map_.latent());
+    quadrature_ = &domains_.emplace(exec_, reference_, reference.domains, reference.domain, map_.latent(),
+                                    config_.enrichment_threshold);
   } else {
     quadrature_ = &eulerian_.emplace(exec_, reference, eulerian_settings(config_, options_));
   }
@@ -156,7 +157,9 @@ Error ReducedSim::singular_projection() const {
 
 float ReducedSim::stable_dt() const {
   if (config_.fixed_dt > 0.0f) return config_.fixed_dt;
-  return std::min(config_.max_dt, config_.cfl * config_.dx / (wave_speed() + max_sample_speed_));
+  // Enriched corners are nodes of elements as small as a domain, not a grid cell (as the full-order step).
+  const float length = domains_ && domains_->enriches() ? std::min(config_.dx, domains_->smallest_edge()) : config_.dx;
+  return std::min(config_.max_dt, config_.cfl * length / (wave_speed() + max_sample_speed_));
 }
 
 float ReducedSim::wave_speed() const {

@@ -148,7 +148,7 @@ void particles_to_corners(const Exec& exec, const ParticleView& particles, const
 void corners_to_grid(const Exec& exec, const DomainView& domains, const GridView& grid, const StepParams& step);
 // corners_to_grid into a grid that holds only some of the corners' stencils (a reduced step's, built around
 // its samples): the shares of nodes outside it are dropped, and the velocity before forces is kept only where
-// the grid keeps it. For unenriched corners.
+// the grid keeps it. Enriched corners integrate on their own, as there.
 void corners_to_active_nodes(const Exec& exec, const DomainView& domains, const GridView& grid, const StepParams& step);
 void grid_to_corners(const Exec& exec, const DomainView& domains, const GridView& grid, const StepParams& step);
 void corners_to_particles(const Exec& exec, const ParticleView& particles, const DomainView& domains,

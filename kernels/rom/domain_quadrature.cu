@@ -62,13 +62,24 @@ struct GridToDomainSamples {
     } else {
       const Index d = point_domain[sample_point[s]];
       for (int a = 0; a < kDomainCorners; ++a) {
-        const mpm::QuadraticStencil<float> stencil(corners.load(kDomainCorners * s + a), grid.inverse_dx);
-        const mpm::StencilNodes nodes(stencil, grid.table);
+        // A corner's velocity as grid_to_corners gives it: rigid in a Dirichlet group, its own where enriched,
+        // the grid's otherwise.
+        const Index entry = kDomainCorners * d + a, c = domains.corner[entry];
+        const Vec3<float> x_corner = corners.load(kDomainCorners * s + a);
+        const std::int32_t corner_group = domains.dirichlet_group[c];
         Vec3<float> v_corner = Vec3<float>::zero();
-        mpm::for_each_stencil_offset([&](int i, int j, int k) {
-          v_corner += stencil.weight(i, j, k) * grid.velocity.load(nodes.node(i, j, k));
-        });
-        v += domains.weight[kDomainCorners * d + a] * v_corner;
+        if (corner_group != mpm::kNoDirichletGroup) {
+          v_corner = step.dirichlet[corner_group].velocity_at(x_corner);
+        } else if (domains.enriched[c]) {
+          v_corner = domains.v.load(c);
+        } else {
+          const mpm::QuadraticStencil<float> stencil(x_corner, grid.inverse_dx);
+          const mpm::StencilNodes nodes(stencil, grid.table);
+          mpm::for_each_stencil_offset([&](int i, int j, int k) {
+            v_corner += stencil.weight(i, j, k) * grid.velocity.load(nodes.node(i, j, k));
+          });
+        }
+        v += domains.weight[entry] * v_corner;
       }
       x = mpm::kept_inside_domain(step.domain, x + step.dt * v, grid.dx);
     }

@@ -34,10 +34,11 @@ void gather_sample_corners(const Exec& exec, Span<const std::int32_t> sample_poi
                            Span<const std::int32_t> point_domain, const mpm::DomainView& domains,
                            Vec3Planes<float> corners);
 
-// G2P at samples with domains, as corners_to_particles with PIC: v_s = Σ_α ω_αs Σ_i w_i(x_α) v_i over the
-// corners gather_sample_corners placed, then x_s += Δt v_s (kept inside the domain), C_s = 0 and F_s as it
-// was; a sample of a Dirichlet group moves rigidly. Records G2P's failure and the samples' largest speed as
-// grid_to_particle does.
+// G2P at samples with domains, as grid_to_corners then corners_to_particles with PIC: v_s = Σ_α ω_αs v_α over
+// the corners gather_sample_corners placed, v_α = Σ_i w_i(x_α) v_i, or the rigid motion at a corner of a
+// Dirichlet group, or an enriched corner's own (corners_to_active_nodes wrote it); then x_s += Δt v_s (kept
+// inside the domain), C_s = 0 and F_s as it was; a sample of a Dirichlet group moves rigidly. Records G2P's failure and
+// the samples' largest speed as grid_to_particle does.
 void grid_to_domain_samples(const Exec& exec, const mpm::ParticleView& samples, Span<const std::int32_t> sample_point,
                             Span<const std::int32_t> point_domain, const mpm::DomainView& domains,
                             Vec3Planes<const float> corners, const mpm::GridView& grid, const mpm::StepParams& step);

@@ -185,29 +185,29 @@ TEST(LagrangianQuadrature, EveryPointOrTheSamplesNeighboursAtTheirDecodedPlaces)
 }
 
 // The domain quadrature's transfer is the full-order step's on particle domains: from a state its map
-// decodes exactly (a strained cube, F = I + E, moving at v̂), the samples' velocities after P2G through the
-// corners, the grid update and G2P through the corners are the full-order particles' after one substep, to
-// rounding. The plain material-point quadrature, on the same state, is not (its stencils' forces differ at
-// the surface), which is what this test tells apart.
+// decodes exactly (a cube strained about its centre, F = I + E, moving at v̂), the samples' velocities after
+// P2G through the corners, the grid update and G2P through the corners are the full-order particles' after
+// one substep, to rounding, with corners enriched or not. The plain material-point quadrature, on the same
+// state, is not (its stencils' forces differ at the surface), which is what this test tells apart.
 struct StrainedCube {
   static constexpr float kDx = 1.0f / 32.0f, kDt = 1e-3f;
   Mat3<float> E;
+  Vec3<float> center = Vec3<float>::constant(0.5f);
   Vec3<float> velocity{0.5f, 0.0f, -0.25f};
   mpm::ParticleInit reference =
       test::lattice_box_with_domains(Vec3<float>::constant(0.4375f), Vec3<float>::constant(0.5625f), kDx, 2, 1000.0f);
   FullOrderConfig config = test::open_space_config(kDx, 32, scene::nclaw_material(scene::NclawMaterial::Jelly));
 
-  StrainedCube() {
-    E = Mat3<float>::zero();
-    E(0, 0) = 0.10f, E(0, 1) = 0.05f, E(1, 1) = -0.08f, E(1, 2) = 0.03f, E(2, 0) = 0.02f, E(2, 2) = 0.06f;
+  explicit StrainedCube(const Mat3<float>& strain) : E(strain) {
     config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
     config.transfer = mpm::Transfer::PicFlip;
     config.flip_alpha = 0.0f;
   }
-  Vec3<float> strained(const Vec3<float>& X) const { return X + E * X; }
+  Vec3<float> strained(const Vec3<float>& X) const { return X + E * (X - center); }
 
-  // The full-order particles' velocities after one substep from the strained state.
-  std::vector<float> full_order_velocities() const {
+  // The full-order particles' velocities after one substep from the strained state, and the share of its
+  // domains that enriched their corners.
+  std::pair<std::vector<float>, double> full_order_velocities() const {
     mpm::ParticleInit init = reference;
     const Index n = init.count();
     init.F.assign(std::size_t(9 * n), 0.0f);
@@ -225,7 +225,7 @@ struct StrainedCube {
                              strained(test::plane_vector(init.domains.corner_x, corners, c)));
     FullOrderSim sim(test::exec(), config, init);
     sim.substep(kDt);
-    return sim.particles().velocities_in_initial_order(sim.exec());
+    return {sim.particles().velocities_in_initial_order(sim.exec()), sim.enriched_share()};
   }
 
   // The samples' velocities after one reduced substep's transfers (every point a sample), through the domain
@@ -233,7 +233,7 @@ struct StrainedCube {
   std::vector<float> reduced_velocities(bool domains) const {
     const Exec& exec = test::exec();
     const ReferenceBody body(exec.backend, reference);
-    const DeformationMap map(exec.backend, test::strained_translation_map(E));
+    const DeformationMap map(exec.backend, test::strained_translation_map(E, center));
     const DeviceBuffer<float> latent =
         DeviceBuffer<float>::from_host(exec.backend, {0.0f, 0.0f, 0.0f, velocity[0], velocity[1], velocity[2]});
     const Span<const float> xhat = latent.span().subspan(0, 3), vhat = latent.span().subspan(3, 3);
@@ -242,9 +242,10 @@ struct StrainedCube {
     samples.decode(exec, map, xhat, vhat);
     std::optional<DomainQuadrature> through_domains;
     std::optional<LagrangianQuadrature> own_stencils;
-    ReducedQuadrature& quadrature = domains ? static_cast<ReducedQuadrature&>(through_domains.emplace(
-                                                  exec, body, reference.domains, reference.domain, 3))
-                                            : own_stencils.emplace(exec, body, 3, kDx, /*search=*/false);
+    ReducedQuadrature& quadrature =
+        domains ? static_cast<ReducedQuadrature&>(through_domains.emplace(
+                      exec, body, reference.domains, reference.domain, 3, config.enrichment_threshold))
+                : own_stencils.emplace(exec, body, 3, kDx, /*search=*/false);
     const mpm::ParticleView points = quadrature.build(exec, map, samples, xhat, vhat);
     mpm::SparseGrid grid(exec.backend, kDx, /*keep_old_velocity=*/false);
     grid.rebuild(exec, quadrature.sample_stencil_points(samples));
@@ -267,22 +268,45 @@ float largest_difference(const std::vector<float>& a, const std::vector<float>& 
   return largest;
 }
 
-TEST(DomainQuadrature, SamplesMoveAsTheFullOrderStepOnDomainsMovesTheirParticles) {
-  const StrainedCube cube;
-  const std::vector<float> full = cube.full_order_velocities();
+// The change of the particles' velocities from free fall in the full-order substep (the stress's), checked to
+// be large, and how far the domain quadrature's samples are from the full-order particles.
+struct Agreement {
+  float stress_change, through_domains, own_stencils;
+};
+Agreement domain_agreement(const StrainedCube& cube, bool enriched) {
+  const auto [full, enriched_share] = cube.full_order_velocities();
+  EXPECT_EQ(enriched_share > 0.0, enriched);
   const Index n = cube.reference.count();
-  ASSERT_EQ(full.size(), std::size_t(3 * n));
+  EXPECT_EQ(full.size(), std::size_t(3 * n));
   // The stress moved the surface: some particle's velocity changed by far more than gravity's 1 cm/s.
   std::vector<float> free_fall(full.size());
   for (Index p = 0; p < n; ++p)
     test::set_plane_vector(free_fall, n, p, cube.velocity + StrainedCube::kDt * cube.config.gravity);
   const float stress_change = largest_difference(full, free_fall);
   EXPECT_GT(stress_change, 0.05f);
+  return {stress_change, largest_difference(cube.reduced_velocities(/*domains=*/true), full),
+          largest_difference(cube.reduced_velocities(/*domains=*/false), full)};
+}
+
+TEST(DomainQuadrature, SamplesMoveAsTheFullOrderStepOnDomainsMovesTheirParticles) {
+  Mat3<float> E = Mat3<float>::zero();
+  E(0, 0) = 0.10f, E(0, 1) = 0.05f, E(1, 1) = -0.08f, E(1, 2) = 0.03f, E(2, 0) = 0.02f, E(2, 2) = 0.06f;
+  const Agreement agreement = domain_agreement(StrainedCube(E), /*enriched=*/false);
   // Through the domains: the full-order velocities to float rounding of sums of that size, in other orders
   // (seen: 6e-6 m/s of a 0.55 m/s change).
-  EXPECT_LT(largest_difference(cube.reduced_velocities(/*domains=*/true), full), 2e-5f);
+  EXPECT_LT(agreement.through_domains, 2e-5f);
   // Through the points' own stencils: off by a share of the change (seen: 0.063 m/s, 11 %).
-  EXPECT_GT(largest_difference(cube.reduced_velocities(/*domains=*/false), full), 0.05f * stress_change);
+  EXPECT_GT(agreement.own_stencils, 0.05f * agreement.stress_change);
+}
+
+// Stretched to four times its length (F = diag(4, 1, 1), quality 3 / (‖F‖ ‖F⁻¹‖) = 0.49 under the threshold
+// 0.6), every domain enriches its corners, which then integrate on their own in both steps.
+TEST(DomainQuadrature, EnrichedCornersMoveAsTheFullOrderStepMovesThem) {
+  Mat3<float> E = Mat3<float>::zero();
+  E(0, 0) = 3.0f;
+  const Agreement agreement = domain_agreement(StrainedCube(E), /*enriched=*/true);
+  EXPECT_LT(agreement.through_domains, 4e-5f * agreement.stress_change);
+  EXPECT_GT(agreement.own_stencils, 0.05f * agreement.stress_change);
 }
 
 TEST(DomainQuadrature, NeedsEveryMaterialPointInADomain) {
@@ -293,7 +317,7 @@ TEST(DomainQuadrature, NeedsEveryMaterialPointInADomain) {
   EXPECT_THROW(
       {
         try {
-          DomainQuadrature(test::exec(), reference, plain.domains, plain.domain, 3);
+          DomainQuadrature(test::exec(), reference, plain.domains, plain.domain, 3, 0.6f);
         } catch (const Error& error) {
           EXPECT_NE(std::string(error.what()).find("domains = true"), std::string::npos) << error.what();
           throw;
@@ -303,7 +327,7 @@ TEST(DomainQuadrature, NeedsEveryMaterialPointInADomain) {
   std::vector<std::int32_t> one_without = with_domains.domain;
   one_without[7] = mpm::kNoDomain;
   const ReferenceBody same_body(test::exec().backend, with_domains);
-  EXPECT_THROW(DomainQuadrature(test::exec(), same_body, with_domains.domains, one_without, 3), Error);
+  EXPECT_THROW(DomainQuadrature(test::exec(), same_body, with_domains.domains, one_without, 3, 0.6f), Error);
 }
 
 }  // namespace
