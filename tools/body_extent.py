@@ -25,6 +25,8 @@ def main():
     parser.add_argument("--frames", type=int, nargs="+", default=[0, -1], help="frame indices (negative: from the end)")
     parser.add_argument("--slabs", type=float, help="also the mean stretch along the axis per slab this many mm thick")
     args = parser.parse_args()
+    if args.slabs is not None and not args.slabs > 0:
+        sys.exit(f"--slabs: a thickness in mm > 0, got {args.slabs}")
     axis = "xyz".index(args.axis)
     with h5py.File(args.snapshot, "r") as snapshot:
         names = sorted(snapshot["frames"].keys())
@@ -40,8 +42,6 @@ def main():
                   f"{1e3 * np.diff(along).max():.2f} mm, smallest stretch {stretches.min():.3f}, "
                   f"det F in [{J.min():.3f}, {J.max():.3f}]")
             if args.slabs is not None:
-                if not args.slabs > 0:
-                    sys.exit(f"--slabs: a thickness in mm > 0, got {args.slabs}")
                 position = np.asarray(group["x"])[:, axis]
                 slab = np.floor((position - position.min()) / (1e-3 * args.slabs)).astype(int)
                 means = [F[slab == k, axis, axis].mean() for k in range(slab.max() + 1) if (slab == k).any()]
