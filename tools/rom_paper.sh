@@ -21,7 +21,8 @@
 #   super-resolution  Table 4: the torsion map run at the paper's resolution and written at a sampling
 #                     twice as fine (romp run --output-points), against a full-order run at that
 #                     resolution; beside it the tracer-particle baseline (the fine points carried by
-#                     the coarse full-order run); 50 and all sample points
+#                     the coarse full-order run's grid velocity, and held by its particle domains);
+#                     50 and all sample points
 #   super-resolution-plain
 #                     Table 4 on torsion-plain's data and map
 #   poke              Table 5: poke-and-recover (r = 6, trained on 12 single pokes, tested on the
@@ -55,7 +56,7 @@ set -euo pipefail
 trap 'echo "interrupted" >&2; exit 130' INT TERM
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 romp="${ROMP:-$root/build/romp}"
-usage() { sed -n '7,47p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '7,48p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 [ $# -ge 2 ] || usage
 experiment="$1" out="$2"
 shift 2
@@ -250,13 +251,16 @@ table() {
 
 # superres_table MODEL SWEEP SCENE COUNTS...: Table 4. For each test member: the full-order run of
 # scenes/rom/SCENE at its own (finer) resolution with the member's values, the tracer baseline and the
-# reduced runs of the member written at the fine run's points, each compared with the fine run.
+# reduced runs of the member written at the fine run's points, each compared with the fine run. The
+# baseline is the paper's, the fine points carried by the coarse run's grid velocity (--tracers-by grid);
+# a scene with particle domains also gets the points held by the coarse run's domains (--tracers-by material).
 superres_table() {
   local model="$1" sweep_folder="$2" scene="$3"
   shift 3
   local folder="$(dirname "$model")/superres"
   mkdir -p "$folder"
-  local index member_scene snapshot values samples
+  local index member_scene snapshot values samples carrier carriers=(grid)
+  grep -q '^domains = true' "$root/scenes/rom/$scene" && carriers+=(material)
   declare -A cells
   plan_runs $(($(test_members "$sweep_folder" | wc -l) * ${#scheme_list[@]} * $#))
   while read -r index member_scene snapshot values; do
@@ -268,10 +272,12 @@ superres_table() {
       "$romp" "${options[@]}" run --no-progress "$root/scenes/rom/$scene" "${sets[@]}" -o "$fine" \
         > "${fine%.h5}.log" 2>&1 || { echo "failed: $fine (see ${fine%.h5}.log)" >&2; exit 1; }
     fi
-    local tracers="$folder/tracers-m$index.h5"
-    [ -f "$tracers" ] || "$romp" "${options[@]}" run --no-progress "$member_scene" --output-points "$fine" \
-      -o "$tracers" > "${tracers%.h5}.log" 2>&1 || echo "${tracers%.h5}.log" >> "$failures"
-    cells[baseline]+=" $([ -f "$tracers" ] && error "$tracers" "$fine" || echo failed)"
+    for carrier in "${carriers[@]}"; do
+      local tracers="$folder/tracers-$carrier-m$index.h5"
+      [ -f "$tracers" ] || "$romp" "${options[@]}" run --no-progress "$member_scene" --output-points "$fine" \
+        --tracers-by "$carrier" -o "$tracers" > "${tracers%.h5}.log" 2>&1 || echo "${tracers%.h5}.log" >> "$failures"
+      cells[baseline-$carrier]+=" $([ -f "$tracers" ] && error "$tracers" "$fine" || echo failed)"
+    done
     for scheme in "${scheme_list[@]}"; do
       for samples in "$@"; do
         local run="$folder/$(basename "$model" .h5)-$scheme-s$samples-m$index${rom_cfl:+-cfl$rom_cfl}.h5"
@@ -296,7 +302,10 @@ superres_table() {
     done
   done
   # shellcheck disable=SC2086
-  echo "| tracer-particle baseline | - | $(summary ${cells[baseline]}) |"
+  echo "| tracer-particle baseline (the fine points carried by the coarse run's grid) | - | $(summary ${cells[baseline-grid]}) |"
+  # shellcheck disable=SC2086
+  [ -z "${cells[baseline-material]:-}" ] ||
+    echo "| the fine points held by the coarse run's particle domains | - | $(summary ${cells[baseline-material]}) |"
 }
 
 # wall_per_second LOG: wall seconds per simulated second of the run that wrote LOG (romp run's summary).

@@ -4,6 +4,9 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <map>
+#include <string>
+
 #include "host/cli/compare_command.h"
 #include "host/cli/exit_codes.h"
 #include "host/run/interrupt.h"
@@ -22,16 +25,29 @@ CLI::App* add_run_command(CLI::App& app, RunCommandOptions& options, const std::
   command->add_flag("--deterministic", options.deterministic, "Bitwise reproducible (CPU, one thread)");
   command->add_flag("--ply", options.run.ply, "Also write a PLY point cloud per frame");
   command->add_flag("!--no-progress", options.run.progress, "No progress bar");
-  command
-      ->add_option("--output-points", options.run.output_points,
-                   "Write the frames at the material points of this snapshot (e.g. a finer sampling of the same "
-                   "body) instead of the scene's: decoded by the map with --rom (super-resolution), carried as "
-                   "tracers otherwise (x and v; in particle domains where the scene has them, else by the grid)")
-      ->check(CLI::ExistingFile)
-      ->excludes("--resume");
+  CLI::Option* output_points =
+      command
+          ->add_option("--output-points", options.run.output_points,
+                       "Write the frames at the material points of this snapshot (e.g. a finer sampling of the same "
+                       "body) instead of the scene's: decoded by the map with --rom (super-resolution), carried as "
+                       "tracers otherwise (x and v; see --tracers-by)")
+          ->check(CLI::ExistingFile)
+          ->excludes("--resume");
   add_set_option(*command, options.scene);
   add_law_option(*command, options.scene);
   run::add_reduced_run_options(*command, options.reduced);
+  command
+      ->add_option("--tracers-by", options.run.tracers_by,
+                   "What carries the --output-points tracers of a full-order run: material (the particle domain "
+                   "that holds a point, where the scene has domains, else the grid) or grid (the grid's velocity "
+                   "everywhere: the ROM paper's tracer-particle technique, blind to enriched corners)")
+      ->transform(CLI::CheckedTransformer(
+                      std::map<std::string, engine::TracerCarrier>{{"material", engine::TracerCarrier::Material},
+                                                                   {"grid", engine::TracerCarrier::Grid}})
+                      .description(""))
+      ->type_name("{material,grid}")
+      ->needs(output_points)
+      ->excludes("--rom");
   command
       ->add_option("--compare", options.reference,
                    "Then print the run's position error against this reference run of the same scene (as compare)")

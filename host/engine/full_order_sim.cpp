@@ -269,10 +269,10 @@ bool FullOrderSim::accept_batch(float dt, int count, float speed, const std::vec
   return true;
 }
 
-void FullOrderSim::set_tracers(const std::vector<float>& X) {
+void FullOrderSim::set_tracers(const std::vector<float>& X, TracerCarrier carrier) {
   // Tracers embed in the domains as they are at the start, the reference configuration.
   mpm::DomainInit layout;
-  if (domains_) {
+  if (domains_ && carrier == TracerCarrier::Material) {
     ROMP_CHECK(steps_ == 0, "tracers start with the run: they are embedded in the domains' reference configuration");
     layout.corner = domains_->corner_indices_on_host(exec_);
     layout.corner_x = domains_->corner_positions_on_host(exec_);

@@ -113,10 +113,10 @@ class FullOrderSim {
   const ImplicitSolveTotals* implicit_totals() const { return implicit_ ? &implicit_->totals() : nullptr; }
 
   // Tracers (host/tracer_set.h): passive points starting at `X` (3 planes), carried from now on by the
-  // domains that hold them or else by the grid's velocity; they do not act on the simulation. Their
-  // positions and velocities in the order of `X`. Tracers end the batches of substeps (runs_batches): set them
-  // before the first batch replayed as a graph.
-  void set_tracers(const std::vector<float>& X);
+  // domains that hold them or else by the grid's velocity (TracerCarrier::Material), or by the grid's velocity
+  // alone (Grid); they do not act on the simulation. Their positions and velocities in the order of `X`.
+  // Tracers end the batches of substeps (runs_batches): set them before the first batch replayed as a graph.
+  void set_tracers(const std::vector<float>& X, TracerCarrier carrier = TracerCarrier::Material);
   std::vector<float> tracer_positions_on_host() const;
   std::vector<float> tracer_velocities_on_host() const;
 

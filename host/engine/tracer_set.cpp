@@ -69,11 +69,13 @@ void TracerSet::advect(const Exec& exec, const mpm::GridView& grid, const mpm::S
 }
 
 std::vector<float> TracerSet::positions(const Exec& exec, const mpm::ParticleDomains* domains) const {
-  return merged(x_.to_host(exec.stream), domains ? domains->corner_positions_on_host(exec) : std::vector<float>{});
+  const bool held = domains && embedded_count() > 0;
+  return merged(x_.to_host(exec.stream), held ? domains->corner_positions_on_host(exec) : std::vector<float>{});
 }
 
 std::vector<float> TracerSet::velocities(const Exec& exec, const mpm::ParticleDomains* domains) const {
-  return merged(v_.to_host(exec.stream), domains ? domains->corner_velocities_on_host(exec) : std::vector<float>{});
+  const bool held = domains && embedded_count() > 0;
+  return merged(v_.to_host(exec.stream), held ? domains->corner_velocities_on_host(exec) : std::vector<float>{});
 }
 
 std::vector<float> TracerSet::merged(const std::vector<float>& values, const std::vector<float>& corner_values) const {

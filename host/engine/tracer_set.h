@@ -17,6 +17,12 @@
 
 namespace romp::engine {
 
+// What carries a tracer in a run with particle domains.
+enum class TracerCarrier {
+  Material,  // the domain that holds it at the start, else the grid
+  Grid,      // the grid's velocity everywhere: the classic tracer technique, blind to enriched corners
+};
+
 class TracerSet {
  public:
   // X: the points' positions at the start (3 planes). `domains`: the run's domain corners (indices and
@@ -28,7 +34,7 @@ class TracerSet {
   void advect(const Exec& exec, const mpm::GridView& grid, const mpm::StepParams& step);
 
   // Positions and velocities now, 3 planes in the order of X; `domains` is the run's (nullptr
-  // without domains).
+  // without domains; read only when a point is embedded).
   std::vector<float> positions(const Exec& exec, const mpm::ParticleDomains* domains) const;
   std::vector<float> velocities(const Exec& exec, const mpm::ParticleDomains* domains) const;
 

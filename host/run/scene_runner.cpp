@@ -168,7 +168,7 @@ RunResult run_scene(const Exec& exec, const scene::Scene& scene, const RunOption
                            : full_order_simulation(exec, setup.config, setup.particles, restored_time, restored_steps);
   Simulation& sim = *simulation;
   if (at_points) {
-    sim.track_points(header.X);
+    sim.track_points(header.X, options.tracers_by);
     // x always; of the rest, what the scene asks for and the engine has at such points.
     fields = io::kFieldX | (fields & sim.point_fields());
   }

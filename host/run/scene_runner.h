@@ -26,6 +26,8 @@ struct RunOptions {
   // decoded by the map in a reduced-order run, carried as tracers in a full-order one (Simulation::
   // track_points). Empty: the scene's material points.
   std::string output_points;
+  // What carries output_points in a full-order run with particle domains (engine::TracerCarrier).
+  engine::TracerCarrier tracers_by = engine::TracerCarrier::Material;
   // Set for a reduced-order run: builds its simulation from the scene's setup (the model it needs is
   // the caller's business). Empty: the full-order engine.
   std::function<std::unique_ptr<Simulation>(const Exec&, const scene::SceneSetup&)> make_reduced;

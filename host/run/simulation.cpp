@@ -36,7 +36,9 @@ class FullOrderRun final : public Simulation {
     }
     return frame;
   }
-  void track_points(const std::vector<float>& X) override { sim_.set_tracers(X); }
+  void track_points(const std::vector<float>& X, engine::TracerCarrier carrier) override {
+    sim_.set_tracers(X, carrier);
+  }
   io::FrameData capture_points() override {
     io::FrameData frame;
     frame.time = sim_.time();
@@ -94,7 +96,8 @@ class ReducedRun final : public Simulation {
 
   bool advance_to(double t, const std::function<bool()>& stop) override { return sim_.advance_to(t, stop); }
   io::FrameData capture() override { return decoded_at(X_); }
-  void track_points(const std::vector<float>& X) override { points_X_ = X; }
+  // Decoded by the map: nothing carries them.
+  void track_points(const std::vector<float>& X, engine::TracerCarrier) override { points_X_ = X; }
   io::FrameData capture_points() override { return decoded_at(points_X_); }
   io::FieldMask point_fields() const override { return io::kFieldX | io::kFieldV | io::kFieldF | io::kFieldC; }
   double time() const override { return sim_.time(); }

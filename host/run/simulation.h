@@ -11,6 +11,7 @@
 
 #include "host/engine/reduced_sim.h"
 #include "host/engine/sim_config.h"
+#include "host/engine/tracer_set.h"
 #include "kernels/core/exec.h"
 #include "kernels/mpm/particle_set.h"
 #include "nn/io/snapshot_layout.h"
@@ -41,9 +42,9 @@ class Simulation {
   virtual DomainState domain_state() { return {}; }
   // Frames at other points than the material points (RunOptions::output_points): `X` (3 planes) in the
   // reference configuration, given before the first advance. The reduced engine decodes x, v and F
-  // there (the ROM paper's super-resolution); the full-order engine carries them as tracers through its
-  // grid velocity (x and v: the paper's tracer-particle baseline, Sec. 5.2.1).
-  virtual void track_points(const std::vector<float>& X) = 0;
+  // there (the ROM paper's super-resolution); the full-order engine carries them as tracers, as `carrier`
+  // says (x and v: the paper's tracer-particle baseline, Sec. 5.2.1, with TracerCarrier::Grid).
+  virtual void track_points(const std::vector<float>& X, engine::TracerCarrier carrier) = 0;
   virtual io::FrameData capture_points() = 0;
   // The fields capture_points fills.
   virtual io::FieldMask point_fields() const = 0;

@@ -186,6 +186,34 @@ TEST(ParticleDomains, TracersRideInTheDomainsThroughEnrichment) {
   for (int a = 0; a < 3; ++a) EXPECT_EQ(tx[a * (n + 1) + n], 0.2f);
 }
 
+// TracerCarrier::Grid, the ROM paper's tracer technique: the same tracers carried by the grid's velocity
+// alone. Until a corner enriches they keep with the particles to a fraction of a cell (the two transfers'
+// difference); while the squeeze enriches corners, whose motion the grid no longer carries, they fall behind.
+TEST(ParticleDomains, TracersCarriedByTheGridMissTheEnrichedCornersMotion) {
+  const engine::FullOrderConfig config = squeeze_config();
+  const mpm::ParticleInit init = squeezed_cube();
+  engine::FullOrderSim sim(test::exec(), config, init);
+  sim.set_tracers(init.x, engine::TracerCarrier::Grid);
+  const auto gap_to_particles = [&] {
+    const std::vector<float> x = sim.particles().positions_in_initial_order(sim.exec());
+    const std::vector<float> tx = sim.tracer_positions_on_host();
+    double gap = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) gap = std::max(gap, double(std::abs(tx[i] - x[i])));
+    return gap;
+  };
+  while (sim.enriched_share() == 0.0 && sim.time() < 0.02) sim.substep(sim.stable_dt());
+  ASSERT_GT(sim.enriched_share(), 0.0);
+  const double before = gap_to_particles();  // 2.2e-4 m when written
+  EXPECT_LT(before, 0.01 * kSqueezeDx);
+  EXPECT_GT(before, 0.001 * kSqueezeDx);  // in the domains they would ride to rounding
+  EXPECT_GT(run_until(sim, 0.025), 0.1);
+  EXPECT_GT(gap_to_particles(), 3.0 * before);  // 8.7e-4 m
+  const std::vector<float> tx = sim.tracer_positions_on_host();
+  double moved = 0.0;
+  for (std::size_t i = 0; i < tx.size(); ++i) moved = std::max(moved, double(std::abs(tx[i] - init.x[i])));
+  EXPECT_GT(moved, 5e-3);  // the grid carries them with the squeeze
+}
+
 // Points embed by lattice cell, so tracers refuse domains of different sizes, naming the sizes.
 TEST(ParticleDomains, TracersRefuseDomainsOfDifferentSizes) {
   mpm::ParticleInit init = squeezed_cube();
