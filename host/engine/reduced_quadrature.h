@@ -85,6 +85,13 @@ class ReducedQuadrature {
   // Adds `builds` builds to what build() keeps on the host besides its launches: those a replayed graph ran,
   // or, negative, those a failed capture's host code counted but no launch ran.
   virtual void account_builds(int builds) { (void)builds; }
+
+  // The CFL step's length for a grid of cell `dx`: the cell, unless the quadrature integrates nodes of smaller
+  // elements.
+  virtual float cfl_length(float dx) const { return dx; }
+  // The factor on the stiffness at rest that the last build's points had at most (one value on the device,
+  // written by P2G), which the CFL step's wave speed takes its square root of; empty: 1, always.
+  virtual Span<const float> stiffening() { return {}; }
 };
 
 class LagrangianQuadrature final : public ReducedQuadrature {
@@ -162,14 +169,14 @@ class DomainQuadrature final : public ReducedQuadrature {
   void account_builds(int builds) override { points_so_far_ += std::int64_t(builds) * points_.count; }
   std::int64_t points_so_far() const { return points_so_far_; }
   Index corner_count() const { return domains_.corner_count(); }
-  // The length the CFL step takes instead of the cell where corners may be enriched, as the full-order step:
-  // the shortest edge of a reference domain.
-  bool enriches() const { return enrichment_threshold_ > 0.0f; }
-  float smallest_edge() const { return domains_.smallest_edge(); }
-  // The largest mpm::domain_stiffening of the last build's points (one value on the device, written by P2G).
-  Span<const float> stiffening() { return domains_.view().stiffening; }
+  // Where corners may be enriched, as the full-order step: the shortest edge of a reference domain, if shorter.
+  float cfl_length(float dx) const override;
+  // Deformed domains are stiffer than at rest (mpm::domain_stiffening), as in the full-order step on them.
+  Span<const float> stiffening() override { return domains_.view().stiffening; }
 
  private:
+  bool enriches() const { return enrichment_threshold_ > 0.0f; }
+
   int latent_;
   float enrichment_threshold_;
   std::int64_t points_so_far_ = 0;

@@ -1,6 +1,8 @@
 // The domain quadrature: every material point through its particle domain's corners, placed by g.
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "host/engine/reduced_quadrature.h"
 #include "kernels/rom/domain_quadrature.h"
 #include "kernels/rom/reduced_dynamics.h"
@@ -54,6 +56,8 @@ void DomainQuadrature::particles_to_grid(const Exec& exec, const mpm::ParticleVi
   mpm::particles_to_corners(exec, points, domains, step);
   mpm::corners_to_active_nodes(exec, domains, grid, step);
 }
+
+float DomainQuadrature::cfl_length(float dx) const { return enriches() ? std::min(dx, domains_.smallest_edge()) : dx; }
 
 Vec3Planes<const float> DomainQuadrature::sample_stencil_points(const SampleSet&) const {
   return Vec3Planes<const float>(sample_corners_.data(), sample_corner_count_);

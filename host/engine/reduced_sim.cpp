@@ -157,15 +157,11 @@ Error ReducedSim::singular_projection() const {
 
 float ReducedSim::stable_dt() const {
   if (config_.fixed_dt > 0.0f) return config_.fixed_dt;
-  // Enriched corners are nodes of elements as small as a domain, not a grid cell (as the full-order step).
-  const float length = domains_ && domains_->enriches() ? std::min(config_.dx, domains_->smallest_edge()) : config_.dx;
-  return std::min(config_.max_dt, config_.cfl * length / (wave_speed() + max_sample_speed_));
+  return std::min(config_.max_dt,
+                  config_.cfl * quadrature_->cfl_length(config_.dx) / (wave_speed() + max_sample_speed_));
 }
 
-float ReducedSim::wave_speed() const {
-  // Deformed domains are stiffer than at rest (mpm::domain_stiffening), as in the full-order step on them.
-  return inputs_.max_wave_speed() * std::sqrt(stiffening_);
-}
+float ReducedSim::wave_speed() const { return inputs_.max_wave_speed() * std::sqrt(stiffening_); }
 
 void ReducedSim::substeps(float dt, int count) {
   ROMP_CHECK(dt > 0.0f && std::isfinite(dt), fmt::format("substep dt must be finite and > 0, got {}", dt));
@@ -260,9 +256,10 @@ void ReducedSim::run_substep(const mpm::StepParams& step, Index staged_substep) 
     const Span<const float> state = latent_.state();
     memory::copy(row.values.data(), exec_.backend, state.data(), exec_.backend,
                  std::size_t(state.size()) * sizeof(float), exec_.stream);
-    if (domains_)
-      memory::copy(row.values.data() + state.size(), exec_.backend, domains_->stiffening().data(), exec_.backend,
-                   sizeof(float), exec_.stream);
+    const Span<const float> stiffening = quadrature_->stiffening();
+    if (!stiffening.empty())
+      memory::copy(row.values.data() + state.size(), exec_.backend, stiffening.data(), exec_.backend, sizeof(float),
+                   exec_.stream);
     const mpm::PointSource sample_points{samples_.x(), samples_.X(), samples_.index()};
     const mpm::PointSource quadrature_points = quadrature_->failure_source();
     auto record = [&row](FailedPointRecord r) {
@@ -284,6 +281,8 @@ void ReducedSim::accept_substeps(float dt, int count) {
   ROMP_CHECK(inputs_.read_back() == count, "a read-back per accept_substeps");
   float speed = 0.0f;
   const double wave_speed = this->wave_speed();
+  const double cfl_length = quadrature_->cfl_length(config_.dx);
+  const bool stiffens = !quadrature_->stiffening().empty();
   float stiffening = 1.0f;
   for (int k = 0; k < count; ++k) {
     // The points outside the domain and the stages' failure slots (reported in this order, and before the
@@ -304,9 +303,9 @@ void ReducedSim::accept_substeps(float dt, int count) {
     if (latent[2 * r] != rom::kLatentSolved) throw singular_projection();
     xhat_.assign(latent.begin(), latent.begin() + r);
     vhat_.assign(latent.begin() + r, latent.begin() + 2 * r);
-    if (domains_) stiffening = std::max(stiffening, latent[2 * r + 1]);
+    if (stiffens) stiffening = std::max(stiffening, latent[2 * r + 1]);
     check_latent("the projection");
-    largest_cfl_ = std::max(largest_cfl_, double(dt) * (wave_speed + last_sample_speed_) / config_.dx);
+    largest_cfl_ = std::max(largest_cfl_, double(dt) * (wave_speed + last_sample_speed_) / cfl_length);
     last_sample_speed_ = inputs_.largest_speed(k);
     speed = std::max(speed, last_sample_speed_);
     time_ += dt;

@@ -131,9 +131,10 @@ class ReducedSim {
   const std::vector<float>& vhat() const { return vhat_; }
   double time() const { return time_; }
   std::int64_t steps() const { return steps_; }
-  // The largest CFL number Δt (c + |v|) / Δx the substeps so far ran at, c the wave speed and |v| the samples'
-  // largest speed when the substep started: the scene's cfl or less, unless the samples sped up within a
-  // read-back's substeps (their step follows the speeds of the read-back before).
+  // The largest CFL number Δt (c + |v|) / ℓ the substeps so far ran at, c the wave speed (with the quadrature's
+  // stiffening), |v| the samples' largest speed when the substep started and ℓ the quadrature's CFL length (the
+  // cell, or a domain's edge): the scene's cfl or less, unless the samples sped up within a read-back's substeps
+  // (their step follows the speeds of the read-back before).
   double largest_cfl_number() const { return largest_cfl_; }
   // Substeps whose Gauss–Newton projection stopped at its iteration limit before converging (the device's
   // count: a download).
@@ -237,7 +238,7 @@ class ReducedSim {
   std::vector<float> xhat_, vhat_;  // [x̂ | v̂] after the last substep read back
   float max_sample_speed_ = 0.0f;   // the samples' largest in the substeps of the last read-back
   float last_sample_speed_ = 0.0f;  // theirs after the last substep read back
-  float stiffening_ = 1.0f;         // the domains' largest in the substeps of the last read-back (1 without)
+  float stiffening_ = 1.0f;         // the quadrature's largest in the substeps of the last read-back (1 without)
   double largest_cfl_ = 0.0;
   double time_ = 0.0;
   std::int64_t steps_ = 0;

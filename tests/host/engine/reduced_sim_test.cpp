@@ -148,7 +148,11 @@ TEST(ReducedSim, DomainQuadratureStepsFollowTheStiffestDomain) {
     const float at_rest = sim.stable_dt();
     sim.substep(1e-7f);  // the body barely moves: its speed stays far below the wave speed
     EXPECT_EQ(sim.stable_dt() <= at_rest, true);
-    return std::pair<float, float>(at_rest, sim.stable_dt());
+    const float stretched = sim.stable_dt();
+    // A substep at that step runs at the scene's CFL number, measured with the same length and stiffening.
+    sim.substep(stretched);
+    EXPECT_NEAR(sim.largest_cfl_number(), config.cfl, 1e-5 * config.cfl);
+    return std::pair<float, float>(at_rest, stretched);
   };
   const auto [rest_domains, stretched_domains] = stable_dt(engine::RomQuadrature::Domains);
   const auto [rest_points, stretched_points] = stable_dt(engine::RomQuadrature::Lagrangian);
