@@ -58,9 +58,9 @@ FullOrderSim::FullOrderSim(const Exec& exec, FullOrderConfig config, const mpm::
   if (domains_) stages_.insert(stages_.end(), {"p2c", "c2g"});
   stages_.emplace_back("grid_update");
   if (implicit_) stages_.emplace_back("implicit_solve");
-  stages_.emplace_back("g2p");
+  stages_.emplace_back(return_map_in_g2p() ? "g2p_plasticity" : "g2p");
   if (domains_) stages_.insert(stages_.end(), {"g2c", "c2p"});
-  if (inputs_.plastic()) stages_.emplace_back("plasticity");
+  if (inputs_.plastic() && !return_map_in_g2p()) stages_.emplace_back("plasticity");
   if (neural_) stages_.emplace_back("neural_plasticity");
   if (replays_batch_graphs()) stages_.emplace_back("batch_graphs");
 }
@@ -182,13 +182,14 @@ bool FullOrderSim::run_substep(const mpm::StepParams& step_params, std::int64_t 
   timed([&] {
     mpm::grid_to_particle(
         exec_, particles, grid, step,
-        follows_sort ? mpm::GridCoverage{particles_.sorted_block_keys(), left_grid_slot} : mpm::GridCoverage{});
+        follows_sort ? mpm::GridCoverage{particles_.sorted_block_keys(), left_grid_slot} : mpm::GridCoverage{},
+        return_map_in_g2p());
   });
   if (domains_) {
     timed([&] { mpm::grid_to_corners(exec_, domains, grid, step); });
     timed([&] { mpm::corners_to_particles(exec_, particles, domains, step); });
   }
-  if (inputs_.plastic()) timed([&] { mpm::project_plasticity(exec_, particles, step); });
+  if (inputs_.plastic() && !return_map_in_g2p()) timed([&] { mpm::project_plasticity(exec_, particles, step); });
   if (neural_) timed([&] { neural_->project_plasticity(exec_, particles, step); });
   if (tracers_) timed([&] { tracers_->advect(exec_, grid, step); });
   buffers_sized_ = true;

@@ -92,6 +92,10 @@ class FullOrderSim {
   // Whether the grid is built when the particles are sorted and kept until the next sort (sort_every > 1,
   // without particle domains or tracers), rather than built from the particles' positions every substep.
   bool grid_follows_sort() const { return sort_every_ > 1 && !domains_ && !tracers_; }
+  // Whether plastic materials' return map runs in G2P (FullOrderConfig::return_map; not with particle domains).
+  bool return_map_in_g2p() const {
+    return inputs_.plastic() && !domains_ && config_.return_map == ReturnMapPass::InG2P;
+  }
   // Whether a substep leaves the sort's count of particle blocks and the grid's count of active blocks on the
   // device (no round trip: the substep's one download is its read-back row): with at most
   // SparseGrid::kFewPoints particles, no particle domains and the explicit integrator, where launches over a

@@ -67,6 +67,11 @@ struct RegionLoadSpec {
 // local tile of nodes (fewer atomics; see kernels/mpm/p2g_tiled.cu).
 enum class P2GKernel { Portable, Tiled };
 
+// Where plastic materials' return map runs: in a pass of its own after G2P (the reference), or in G2P as each
+// particle's F is updated, with the same arithmetic and so the same results, and one pass less over F and the
+// plastic state. Scenes with particle domains keep the pass (their particles move after G2P).
+enum class ReturnMapPass { Separate, InG2P };
+
 // How the grid velocities advance: explicit symplectic Euler, or one Newton step of backward Euler
 // solved by CG on the grid (host/implicit_grid_solver.h), which is stable beyond the explicit CFL limit.
 enum class Integrator { Explicit, Implicit };
@@ -101,6 +106,7 @@ struct FullOrderConfig : mpm::DomainConfig<float> {
   mpm::Transfer transfer = mpm::Transfer::Apic;
   float flip_alpha = 0.95f;
   P2GKernel p2g = P2GKernel::Tiled;
+  ReturnMapPass return_map = ReturnMapPass::InG2P;
   // Substeps between sorts of the particles by grid block (≥ 1; 0: the backend's choice, 1 on the CPU, where
   // a run resumed from a checkpoint must sum in the uninterrupted run's order, and kSortEveryOnCuda there but
   // for scenes of few particles, FullOrderSim::counts_on_device, which sort every substep).

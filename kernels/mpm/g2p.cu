@@ -10,6 +10,23 @@
 namespace romp::mpm {
 namespace {
 
+// The return map of particle p's material at its trial F: the plastic state updated, a non-finite result recorded
+// as the plasticity stage's failure, and the F to store returned.
+ROMP_HD Mat3<float> return_to_yield_surface(const ParticleView& particles, const StepParams& step, Index p,
+                                            const Mat3<float>& F_trial) {
+  const material::PlasticReturn<float> plastic =
+      material::plastic_return(step.materials[particles.material[p]], F_trial);
+  const Mat3<float>& F = plastic.F;
+  if (!is_finite(F)) atomic_min(&step.first_failure[int(Stage::Plasticity)], std::int64_t(p));
+  if (!particles.Jp.empty() && !(F == F_trial)) {
+    particles.Jp[p] *= determinant(F_trial) / determinant(F);
+    particles.plastic_strain[p] += plastic.strain;
+  }
+  return F;
+}
+
+// kReturnMap: with the return map (a kernel of its own, so that elastic scenes' G2P keeps its registers).
+template <bool kReturnMap>
 struct GridToParticle {
   ParticleView particles;
   GridView grid;
@@ -45,7 +62,8 @@ struct GridToParticle {
       F = (Mat3<float>::identity() + step.dt * C) * F;
     }
     x = kept_inside_domain(step.domain, x, grid.dx);
-    store_moved_particle(particles, step, p, x, v, C, F);
+    const bool returns = kReturnMap && group == kNoDirichletGroup;
+    store_moved_particle(particles, step, p, x, v, C, F, returns ? return_to_yield_surface(particles, step, p, F) : F);
     if (!coverage.sorted_keys.empty()) record_left_grid(p, x);
   }
 
@@ -63,15 +81,7 @@ struct ProjectPlasticity {
 
   ROMP_HD void operator()(Index p) const {
     if (particles.dirichlet_group[p] != kNoDirichletGroup) return;
-    const Mat3<float> F_trial = particles.F.load(p);
-    const material::PlasticReturn<float> plastic =
-        material::plastic_return(step.materials[particles.material[p]], F_trial);
-    const Mat3<float>& F = plastic.F;
-    if (!is_finite(F)) atomic_min(&step.first_failure[int(Stage::Plasticity)], std::int64_t(p));
-    particles.F.store(p, F);
-    if (particles.Jp.empty() || F == F_trial) return;
-    particles.Jp[p] *= determinant(F_trial) / determinant(F);
-    particles.plastic_strain[p] += plastic.strain;
+    particles.F.store(p, return_to_yield_surface(particles, step, p, particles.F.load(p)));
   }
 };
 
@@ -93,11 +103,14 @@ struct MaxSpeed {
 }  // namespace
 
 void grid_to_particle(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step,
-                      const GridCoverage& coverage) {
+                      const GridCoverage& coverage, bool return_map) {
   ROMP_CHECK(
       coverage.sorted_keys.empty() || (coverage.sorted_keys.size() == particles.count && coverage.left.size() == 1),
       "G2P's coverage check needs a block key per particle and one flag");
-  for_each(exec, particles.count, GridToParticle{particles, grid, step, coverage});
+  if (return_map)
+    for_each(exec, particles.count, GridToParticle<true>{particles, grid, step, coverage});
+  else
+    for_each(exec, particles.count, GridToParticle<false>{particles, grid, step, coverage});
 }
 
 void project_plasticity(const Exec& exec, const ParticleView& particles, const StepParams& step) {

@@ -141,8 +141,11 @@ struct GridCoverage {
   Span<const std::uint64_t> sorted_keys;
   Span<float> left;
 };
+// `return_map`: each particle G2P moves (outside a Dirichlet group) also takes project_plasticity's return map
+// at its new F, the same arithmetic in the same pass (one pass less over F and the plastic state). Particles in
+// a domain are left to corners_to_particles, and so to a project_plasticity pass after it.
 void grid_to_particle(const Exec& exec, const ParticleView& particles, const GridView& grid, const StepParams& step,
-                      const GridCoverage& coverage = {});
+                      const GridCoverage& coverage = {}, bool return_map = false);
 // The return map of each plastic material, on particles not in a Dirichlet group.
 void project_plasticity(const Exec& exec, const ParticleView& particles, const StepParams& step);
 
@@ -153,18 +156,24 @@ void record_non_finite_deformation(const Exec& exec, const ParticleView& particl
 
 // Stores a particle's new state, recording it as G2P's failure when any of it is not finite, and its speed in
 // step.largest_speed: the end of grid_to_particle and of corners_to_particles, so no pass of its own reads the
-// velocities again for the CFL step.
+// velocities again for the CFL step. `F_stored`: what is stored of F where G2P changed it further (the return
+// map), G2P's own F being the one checked.
 ROMP_HD inline void store_moved_particle(const ParticleView& particles, const StepParams& step, Index p,
                                          const Vec3<float>& x, const Vec3<float>& v, const Mat3<float>& C,
-                                         const Mat3<float>& F) {
+                                         const Mat3<float>& F, const Mat3<float>& F_stored) {
   if (!(is_finite(x) && is_finite(v) && is_finite(F) && is_finite(C)))
     atomic_min(&step.first_failure[int(Stage::G2P)], std::int64_t(p));
   particles.x.store(p, x);
   particles.v.store(p, v);
   particles.C.store(p, C);
-  particles.F.store(p, F);
+  particles.F.store(p, F_stored);
   // Speeds are >= 0, so the float max of their values is the max of the speeds.
   if (!step.largest_speed.empty()) atomic_max(&step.largest_speed[0], norm(v));
+}
+ROMP_HD inline void store_moved_particle(const ParticleView& particles, const StepParams& step, Index p,
+                                         const Vec3<float>& x, const Vec3<float>& v, const Mat3<float>& C,
+                                         const Mat3<float>& F) {
+  store_moved_particle(particles, step, p, x, v, C, F, F);
 }
 
 // The largest particle speed (for the CFL condition before a first substep has recorded it), reduced in

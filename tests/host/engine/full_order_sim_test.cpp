@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <string>
 #include <vector>
 
 #include "host/analysis/mechanical_energy.h"
@@ -332,6 +333,64 @@ double sand_heap_angle_degrees(float friction_angle, float width, float height_0
 // cells of height to be resolved (at dx = 1/48 it reads 18°), hence this resolution.
 TEST(FullOrderSim, SandHeapSettlesNearItsFrictionAngle) {
   EXPECT_NEAR(sand_heap_angle_degrees(25.0f, 0.2f, 0.1f, 0.4f), 25.0, 5.0);
+}
+
+// The return map in G2P (ReturnMapPass::InG2P) is project_plasticity's arithmetic in G2P's pass: a block thrown at
+// a sticky floor, sand on one side and plasticine on the other, a corner of it held by a Dirichlet group, ends on
+// one CPU thread bit for bit where the separate pass leaves it, plastic state included.
+TEST(FullOrderSim, ReturnMapInG2PMatchesItsOwnPassBitForBit) {
+  const float dx = 1.0f / 32.0f;
+  const material::Lame<float> lame = material::lame_from_young_poisson(1e5f, 0.25f);
+  engine::FullOrderConfig config = test::open_space_config(
+      dx, 32, engine::MaterialSpec{material::MaterialParams<float>::drucker_prager(lame, 25.0f, 0.0f), 1000.0f});
+  config.materials.push_back(engine::MaterialSpec{material::MaterialParams<float>::von_mises(lame, 2e3f), 1000.0f});
+  config.gravity = Vec3<float>(0.0f, -9.81f, 0.0f);
+  config.fixed_dt = 2e-4f;
+  mpm::ColliderState ground;  // solid below y = 0.3
+  ground.contact = mpm::ContactType::Sticky;
+  ground.center = Vec3<float>(0.5f, 0.3f, 0.0f);
+  config.colliders = {engine::ColliderSpec{ground}};
+  config.dirichlet = {
+      engine::DirichletSpec{Vec3<float>(0.5f, 0.5f, 0.5f), Vec3<float>(0.2f, 0.0f, 0.0f), Vec3<float>::zero()}};
+  mpm::ParticleInit init = test::lattice_box({0.35f, 0.32f, 0.40f}, {0.65f, 0.45f, 0.60f}, dx, 2, 1000.0f);
+  const Index n = init.count();
+  init.plastic.assign(std::size_t(2 * n), 0.0f);
+  std::fill_n(init.plastic.begin(), n, 1.0f);  // J_p = 1, no plastic strain
+  Index held = 0;
+  for (Index p = 0; p < n; ++p) {
+    const Vec3<float> x = test::plane_vector(init.x, n, p);
+    init.material[p] = x[0] < 0.5f ? 0 : 1;
+    if (x[0] > 0.6f && x[1] > 0.42f) init.dirichlet_group[p] = 0, ++held;
+    test::set_plane_vector(init.v, n, p, Vec3<float>(0.0f, -3.0f, 0.0f));
+  }
+  ASSERT_GT(held, 0);
+  struct End {
+    std::vector<float> x, F, plastic;
+    std::vector<std::string> stages;
+  };
+  auto run = [&](engine::ReturnMapPass pass) {
+    config.return_map = pass;
+    engine::FullOrderSim sim(test::exec_with_threads(1), config, init);
+    for (int s = 0; s < 150; ++s) sim.substep(config.fixed_dt);
+    End end{sim.particles().positions_in_initial_order(sim.exec()),
+            sim.particles().deformation_gradients_in_initial_order(sim.exec()),
+            sim.particles().plastic_state_in_initial_order(sim.exec()),
+            {}};
+    for (const auto& [stage, seconds] : sim.stage_seconds()) end.stages.push_back(stage);
+    return end;
+  };
+  const End separate = run(engine::ReturnMapPass::Separate), fused = run(engine::ReturnMapPass::InG2P);
+  EXPECT_EQ(fused.x, separate.x);
+  EXPECT_EQ(fused.F, separate.F);
+  EXPECT_EQ(fused.plastic, separate.plastic);
+  // Both materials yielded: the return map changed F, and so the runs test it.
+  float sand_strain = 0.0f, plasticine_strain = 0.0f;
+  for (Index p = 0; p < n; ++p) (init.material[p] == 0 ? sand_strain : plasticine_strain) += separate.plastic[n + p];
+  EXPECT_GT(sand_strain, 0.0f);
+  EXPECT_GT(plasticine_strain, 0.0f);
+  EXPECT_NE(std::find(separate.stages.begin(), separate.stages.end(), "plasticity"), separate.stages.end());
+  EXPECT_EQ(std::find(fused.stages.begin(), fused.stages.end(), "plasticity"), fused.stages.end());
+  EXPECT_NE(std::find(fused.stages.begin(), fused.stages.end(), "g2p_plasticity"), fused.stages.end());
 }
 
 // The tiled P2G adds each block's particles into a local tile before the grid: the same sums in

@@ -382,9 +382,9 @@ TEST_F(SceneRunner, EveryPaperMaterialStaysFiniteAndInsideTheBox) {
       ASSERT_GT(x, 0.0f) << material;
       ASSERT_LT(x, 1.0f) << material;
     }
-    // Plastic materials run the return-map stage, elastic ones do not.
+    // Plastic materials run the return map (in G2P's stage, g2p_plasticity), elastic ones do not.
     bool plasticity = false;
-    for (const auto& [stage, seconds] : r.stage_seconds) plasticity = plasticity || stage == "plasticity";
+    for (const auto& [stage, seconds] : r.stage_seconds) plasticity = plasticity || stage == "g2p_plasticity";
     EXPECT_EQ(plasticity, std::string(material) != "jelly") << material;
   }
 }
