@@ -17,6 +17,11 @@ if [ "${1:-}" = "--torch-wheel" ]; then
 fi
 
 "$root/tools/setup.sh"
+# A SASS reader for build.kernel_resources where the CUDA backend is built (found by CMake at configure).
+if command -v nvcc >/dev/null 2>&1 || [ -x /usr/local/cuda/bin/nvcc ]; then
+  ROMP_CUDA_BINUTILS="$("$root/tools/cuda_binutils.sh")"
+  export ROMP_CUDA_BINUTILS
+fi
 "$root/tools/build.sh" "$@"
 status=0
 ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)" || status=$?

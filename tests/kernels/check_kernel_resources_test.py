@@ -74,5 +74,61 @@ class ParseAndCheck(unittest.TestCase):
             self.assertEqual(run().returncode, 0)
 
 
+# Two functions as cuobjdump -sass lists them: a copy that waits for each load before its store, and one that
+# issues three loads before its first store.
+SASS = """\
+\tcode for sm_90
+\t\tFunction : _Z3hotPf
+\t.headerflags\t@"EF_CUDA_SM90 EF_CUDA_VIRTUAL_SM(EF_CUDA_SM90)"
+        /*0110*/              @!P1 LDG.E R9, desc[UR4][R2.64] ;
+        /*01e0*/              @!P1 STG.E desc[UR4][R4.64], R9 ;
+        /*01f0*/              @!P0 LDG.E R11, desc[UR4][R6.64] ;
+        /*02c0*/              @!P0 STG.E desc[UR4][R2.64], R11 ;
+        /*0350*/                   EXIT ;
+\t\t..........
+\t\tFunction : _Z4coldPi
+        /*0210*/                   LDG.E.CONSTANT R3, desc[UR4][R2.64] ;
+        /*0250*/                   LDG.E.CONSTANT R7, desc[UR4][R6.64] ;
+        /*0260*/                   IMAD R1, R2, R3, RZ ;
+        /*0270*/                   LDG.E.CONSTANT R5, desc[UR4][R4.64] ;
+        /*0320*/                   STG.E desc[UR4][R14.64], R3 ;
+        /*0330*/                   LDG.E.CONSTANT R3, desc[UR4][R2.64] ;
+        /*0338*/                   LDG.E.CONSTANT R8, desc[UR4][R2.64] ;
+        /*0340*/                   RED.E.ADD.F32.FTZ.RN.STRONG.GPU desc[UR4][R16.64], R7 ;
+        /*0350*/                   LDG.E R3, desc[UR4][R2.64] ;
+        /*0358*/                   LDG.E R9, desc[UR4][R2.64] ;
+        /*0400*/                   EXIT ;
+"""
+
+
+class LoadsInFlight(unittest.TestCase):
+    def test_counts_the_longest_run_of_loads_between_stores_and_atomics(self):
+        functions = checker.sass_functions(SASS)
+        self.assertEqual(sorted(functions), ["_Z3hotPf", "_Z4coldPi"])
+        self.assertEqual(checker.loads_in_flight(functions["_Z3hotPf"]), 1)
+        self.assertEqual(checker.loads_in_flight(functions["_Z4coldPi"]), 3)
+
+    def test_fewer_than_the_budget_fails(self):
+        kernels = {"hot(float*)": {"registers": 1, "stack": 0, "spills": 0, "loads_in_flight": 1}}
+        failures = checker.check(kernels, [{"match": "hot(", "file": "b.toml", "loads_in_flight": 4}])
+        self.assertEqual(len(failures), 1)
+        self.assertIn("loads_in_flight 1 < budget 4", failures[0])
+        kernels["hot(float*)"]["loads_in_flight"] = 4
+        self.assertEqual(checker.check(kernels, [{"match": "hot(", "file": "b.toml", "loads_in_flight": 4}]), [])
+
+    def test_a_loads_budget_without_cuobjdump_fails(self):
+        script = pathlib.Path(checker.__file__)
+        with tempfile.TemporaryDirectory() as folder:
+            root = pathlib.Path(folder)
+            (root / "build").mkdir()
+            (root / "build" / "k.cu.o.resources").write_text(REPORT)
+            budget = root / "budget.toml"
+            budget.write_text('[[kernel]]\nmatch = "cold("\nloads_in_flight = 2\n')
+            result = subprocess.run([sys.executable, script, root / "build", budget, root / "table.txt"],
+                                    capture_output=True, text=True)
+            self.assertEqual(result.returncode, 1)
+            self.assertIn("--cuobjdump", result.stderr)
+
+
 if __name__ == "__main__":
     unittest.main()
