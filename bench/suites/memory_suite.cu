@@ -1,20 +1,38 @@
 // memory suite: the copy bandwidth each backend reaches, the bound that memory-bound kernels are judged against.
 #include <algorithm>
+#include <cstdint>
+#include <numeric>
 #include <string>
+#include <vector>
 
 #include "bench/suites/suites.h"
 #include "kernels/core/device_buffer.h"
 #include "kernels/core/for_each.h"
+#include "kernels/core/gather_planes.h"
 #include "kernels/core/memory.h"
+#include "kernels/core/read_only.h"
 
 namespace romp::bench {
 namespace {
 
+// A copy as most element-wise functors are written: one element a thread, a plain load.
 struct CopyKernel {
   Span<const float> source;
   Span<float> destination;
   ROMP_HD void operator()(Index i) const { destination[i] = source[i]; }
 };
+
+// A copy as a streaming functor is written for the GPU: read-only loads, four elements a CUDA thread.
+struct StreamingCopyKernel {
+  static constexpr int kItemsPerThread = 4;
+  Span<const float> source;
+  Span<float> destination;
+  ROMP_HD void operator()(Index i) const { destination[i] = read_only(source, i); }
+};
+
+// The particles' planes after a sort: kParticlePlanes float planes gathered through an order (here the identity,
+// as after a sort that moved no particle), the full-order step's permutation (GatherParticle's float half).
+constexpr int kParticlePlanes = 26;
 
 std::string place(const Exec& exec) { return exec.is_cuda() ? "cuda" : "cpu_threads=" + std::to_string(exec.threads); }
 
@@ -32,6 +50,23 @@ void run_memory_suite(Context& context) {
     const Measurement& by_kernel = context.time(
         "memory", "for_each_copy<float>", exec, n, "float", [&] { for_each(exec, n, kernel); }, kBytesPerFloat);
     double best = by_kernel.gigabytes_per_second();
+    const StreamingCopyKernel streaming{source.span(), destination.span()};
+    const Measurement& by_streaming = context.time(
+        "memory", "for_each_copy_streaming<float>", exec, n, "float", [&] { for_each(exec, n, streaming); },
+        kBytesPerFloat);
+    best = std::max(best, by_streaming.gigabytes_per_second());
+
+    const Index rows = n / kParticlePlanes;
+    std::vector<std::int32_t> identity(std::size_t(rows), 0);
+    std::iota(identity.begin(), identity.end(), 0);
+    const auto order = DeviceBuffer<std::int32_t>::from_host(exec.backend, identity);
+    const GatheredArrays particle_planes =
+        GatheredArrays().add(source.span().subspan(0, rows * kParticlePlanes),
+                             destination.span().subspan(0, rows * kParticlePlanes), kParticlePlanes);
+    context.time(
+        "memory", "gather_rows<float x26>", exec, rows, "row",
+        [&] { gather_arrays(exec, particle_planes, rows, order.span()); },
+        kBytesPerFloat * kParticlePlanes + sizeof(std::int32_t));
     if (exec.is_cuda()) {
       const Measurement& by_runtime = context.time(
           "memory", "cudaMemcpy_d2d<float>", exec, n, "float",

@@ -11,6 +11,7 @@
 #include <climits>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 
 #include "kernels/core/error.h"
 #include "kernels/core/exec.h"
@@ -41,6 +42,25 @@ void for_each_cpu(const Exec& exec, Index n, const F& functor) {
 // high on sm_80/sm_90 for register-light functors.
 inline constexpr int kForEachBlockSize = 256;
 
+// The elements one CUDA thread of a for_each launch takes: F::kItemsPerThread where the functor declares it, else 1.
+// A light, memory-bound functor (a copy) loads one value and waits for it before its store: with one load in
+// flight per thread the H200 copies at 71 % of cudaMemcpy's rate. A functor that reads through read_only
+// (read_only.h) and declares K elements a thread keeps K loads in flight (bench/results/gpu-notes.md).
+template <class F, class = void>
+inline constexpr int kItemsPerThread = 1;
+template <class F>
+inline constexpr int kItemsPerThread<F, std::void_t<decltype(F::kItemsPerThread)>> = F::kItemsPerThread;
+
+// A launch's tiles: block b, thread t covers elements tile_element(b, t, k) for k < items, `block_size` apart so
+// that each of a warp's loads stays coalesced; tile_count tiles cover n elements.
+ROMP_HD inline Index tile_element(Index block, int thread, int k, int block_size, int items) {
+  return (block * items + k) * block_size + thread;
+}
+inline Index tile_count(Index n, int block_size, int items) {
+  const Index tile = Index(block_size) * items;
+  return (n + tile - 1) / tile;
+}
+
 #if defined(__CUDACC__)
 // After a launch on exec's stream, from for_each and from the custom kernels alike: the launch's own
 // error, and in debug builds (or with ROMP_SYNC_LAUNCHES) any fault of the kernel, surfaced at the launch
@@ -53,17 +73,34 @@ inline void check_launch(const Exec& exec) {
 #endif
 }
 
-template <class F>
+template <int kBlockSize, int kItems, class F>
 __global__ void for_each_kernel(Index n, F functor) {
-  const Index i = Index(blockIdx.x) * blockDim.x + threadIdx.x;
-  if (i < n) functor(i);
+  if constexpr (kItems == 1) {
+    // What a functor that declares nothing gets: the one-element kernel as it was before tiles.
+    const Index i = Index(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i < n) functor(i);
+  } else {
+    const auto element = [](int k) { return tile_element(blockIdx.x, threadIdx.x, k, kBlockSize, kItems); };
+    if (element(kItems - 1) < n) {
+      // A whole tile: no bound check between the calls, so their read-only loads can be issued together.
+      ROMP_UNROLL
+      for (int k = 0; k < kItems; ++k) functor(element(k));
+    } else {
+      ROMP_UNROLL
+      for (int k = 0; k < kItems - 1; ++k) {
+        if (element(k) < n) functor(element(k));
+      }
+    }
+  }
 }
 
 template <int kBlockSize, class F>
 void for_each_cuda(const Exec& exec, Index n, const F& functor) {
-  const Index blocks = (n + kBlockSize - 1) / kBlockSize;
+  constexpr int kItems = kItemsPerThread<F>;
+  static_assert(kItems >= 1, "a functor's kItemsPerThread is at least 1");
+  const Index blocks = tile_count(n, kBlockSize, kItems);
   ROMP_CHECK(blocks <= INT_MAX, "for_each: " + std::to_string(n) + " elements exceed one CUDA launch");
-  for_each_kernel<<<unsigned(blocks), kBlockSize, 0, exec.stream>>>(n, functor);
+  for_each_kernel<kBlockSize, kItems><<<unsigned(blocks), kBlockSize, 0, exec.stream>>>(n, functor);
   check_launch(exec);
 }
 
@@ -148,7 +185,7 @@ void launch(const Exec& exec, Index n, Span<const std::int64_t> count, const F& 
 
 // One launch (memory::traffic().launches counts it) of functor(i) for i in [0, n). kBlockSize: threads per
 // CUDA block. Heavy functors on few elements (a neural law on a thousand particles: four blocks of 256 would
-// keep four SMs busy) spread over more SMs in smaller blocks.
+// keep four SMs busy) spread over more SMs in smaller blocks; light streaming ones declare kItemsPerThread.
 template <int kBlockSize = detail::kForEachBlockSize, class F>
 void for_each(const Exec& exec, Index n, const F& functor) {
   detail::launch<detail::Cover::Each, kBlockSize>(exec, n, {}, functor);

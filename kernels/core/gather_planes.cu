@@ -14,10 +14,9 @@ struct GatherArrays {
 
   template <class T>
   ROMP_HD void gather(const GatheredPlanes<T>* planes, int count, Index i, Index row) const {
-    const Index m = index.size();
     for (int a = 0; a < count; ++a)
-      for (int c = 0; c < planes[a].components; ++c)
-        planes[a].destination[c * m + i] = planes[a].source[c * source_count + row];
+      copy_row(planes[a].source.data(), source_count, row, planes[a].destination.data(), index.size(), i,
+               planes[a].components);
   }
   ROMP_HD void operator()(Index i) const {
     const Index row = index[i];

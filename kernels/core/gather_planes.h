@@ -10,6 +10,30 @@
 
 namespace romp {
 
+// destination[c destination_stride + to] = source[c source_stride + from] for each of `components` planes: one
+// row of component-major planes copied. The loads go in batches ahead of their stores, in source order: ptxas may
+// not move a plain load past a store that could alias it, so a plane-by-plane loop would keep one load in flight
+// per thread (71 % of the H200's copy rate for a copy); a batch keeps kRowBatch (bench/results/gpu-notes.md). A
+// short last batch loads its last plane again rather than branch around the loads.
+template <class T>
+ROMP_HD void copy_row(const T* source, Index source_stride, Index from, T* destination, Index destination_stride,
+                      Index to, int components) {
+  constexpr int kRowBatch = 4;
+  ROMP_NO_UNROLL
+  for (int first = 0; first < components; first += kRowBatch) {
+    T values[kRowBatch];
+    ROMP_UNROLL
+    for (int k = 0; k < kRowBatch; ++k) {
+      const int plane = first + k < components ? first + k : components - 1;
+      values[k] = source[plane * source_stride + from];
+    }
+    ROMP_UNROLL
+    for (int k = 0; k < kRowBatch; ++k) {
+      if (first + k < components) destination[(first + k) * destination_stride + to] = values[k];
+    }
+  }
+}
+
 // destination[c m + i] = source[c n + index[i]] for i < m and each of `components` planes, where n is
 // `source_count` and m = index.size() (the destination's plane stride).
 template <class T>
@@ -20,8 +44,7 @@ struct GatherPlanes {
   Span<const std::int32_t> index;
   int components;
   ROMP_HD void operator()(Index i) const {
-    const Index m = index.size();
-    for (int c = 0; c < components; ++c) destination[c * m + i] = source[c * source_count + index[i]];
+    copy_row(source.data(), source_count, index[i], destination.data(), index.size(), i, components);
   }
 };
 

@@ -53,7 +53,7 @@ struct ScatterPlanes {
   int components;
   ROMP_HD void operator()(Index i) const {
     const Index n = index.size();
-    for (int c = 0; c < components; ++c) destination[c * n + index[i]] = source[c * n + i];
+    copy_row(source.data(), n, i, destination.data(), n, index[i], components);
   }
 };
 

@@ -22,19 +22,51 @@ struct WriteSquare {
   ROMP_HD void operator()(Index i) const { out[i] = double(i) * double(i); }
 };
 
+// The same, declaring several elements a CUDA thread.
+struct CountVisitsThreeAThread : CountVisits {
+  static constexpr int kItemsPerThread = 3;
+};
+
+template <class Counter>
 std::vector<int> visit_counts(const Exec& exec, Index n) {
   DeviceBuffer<int> visits(exec.backend, n);
   visits.fill_zero(exec.stream);
-  for_each(exec, n, CountVisits{visits.span()});
+  for_each(exec, n, Counter{{visits.span()}});
   return visits.to_host(exec.stream);
 }
 
 TEST(ForEach, VisitsEveryIndexExactlyOnce) {
-  // Sizes around the CUDA block size and far from any multiple of it.
-  for (Index n : {Index(1), Index(255), Index(256), Index(257), Index(100003)}) {
-    const std::vector<int> visits = visit_counts(test::exec(), n);
-    ASSERT_EQ(Index(visits.size()), n);
-    for (Index i = 0; i < n; ++i) ASSERT_EQ(visits[i], 1) << "index " << i << " of " << n;
+  static_assert(detail::kItemsPerThread<CountVisits> == 1 && detail::kItemsPerThread<CountVisitsThreeAThread> == 3);
+  // Sizes around the CUDA block size and a tile of three blocks' worth, and far from any multiple of them.
+  for (Index n : {Index(1), Index(255), Index(256), Index(257), Index(767), Index(768), Index(769), Index(100003)}) {
+    for (const std::vector<int>& visits :
+         {visit_counts<CountVisits>(test::exec(), n), visit_counts<CountVisitsThreeAThread>(test::exec(), n)}) {
+      ASSERT_EQ(Index(visits.size()), n);
+      for (Index i = 0; i < n; ++i) ASSERT_EQ(visits[i], 1) << "index " << i << " of " << n;
+    }
+  }
+}
+
+// What a CUDA launch of several elements a thread covers, on the host: its tiles take every element below n
+// once, and the last tile is the only one that reaches past n.
+TEST(ForEach, TilesOfSeveralElementsAThreadCoverEachElementOnce) {
+  constexpr int kBlockSize = 4;
+  for (const int items : {1, 3}) {
+    for (const Index n : {Index(1), Index(11), Index(12), Index(13), Index(50)}) {
+      std::vector<int> visits(std::size_t(n), 0);
+      const Index tiles = detail::tile_count(n, kBlockSize, items);
+      for (Index block = 0; block < tiles; ++block)
+        for (int thread = 0; thread < kBlockSize; ++thread)
+          for (int k = 0; k < items; ++k) {
+            const Index element = detail::tile_element(block, thread, k, kBlockSize, items);
+            ASSERT_GE(element, 0);
+            if (element < n)
+              ++visits[std::size_t(element)];
+            else
+              ASSERT_EQ(block, tiles - 1) << "element " << element << " of " << n;
+          }
+      for (Index i = 0; i < n; ++i) ASSERT_EQ(visits[std::size_t(i)], 1) << "index " << i << " of " << n;
+    }
   }
 }
 

@@ -45,5 +45,29 @@ TEST(GatherArrays, GathersTheRowsOfEveryArrayInOneLaunch) {
       gather_arrays(exec, GatheredArrays().add(ints.span(), int_rows.span().subspan(0, 2), 1), 4, index.span()), Error);
 }
 
+// Arrays of more planes than a thread loads at once (copy_row's batches of four, the last one short): every plane
+// of every row lands in its own place, the planes past the last batch's included.
+TEST(GatherArrays, GathersArraysOfManyPlanes) {
+  const Exec& exec = test::exec();
+  constexpr Index kRows = 5;
+  const std::vector<std::int32_t> rows = {4, 1, 1, 3};
+  for (const int planes : {2, 4, 5, 11}) {
+    std::vector<float> source(std::size_t(planes * kRows));
+    for (int c = 0; c < planes; ++c)
+      for (Index r = 0; r < kRows; ++r) source[std::size_t(c * kRows + r)] = float(100 * c + r);
+    const auto floats = DeviceBuffer<float>::from_host(exec.backend, source);
+    const auto index = DeviceBuffer<std::int32_t>::from_host(exec.backend, rows);
+    const Index m = Index(rows.size());
+    DeviceBuffer<float> gathered(exec.backend, planes * m);
+    gathered.fill_zero(exec.stream);
+    gather_arrays(exec, GatheredArrays().add(floats.span(), gathered.span(), planes), kRows, index.span());
+    const std::vector<float> host = gathered.to_host(exec.stream);
+    for (int c = 0; c < planes; ++c)
+      for (Index i = 0; i < m; ++i)
+        ASSERT_EQ(host[std::size_t(c * m + i)], float(100 * c + rows[std::size_t(i)]))
+            << "plane " << c << " of " << planes << ", row " << i;
+  }
+}
+
 }  // namespace
 }  // namespace romp
