@@ -22,19 +22,21 @@ std::vector<float> random_vector(Index n, unsigned seed) {
 
 TEST(VectorOps, ElementwiseUpdates) {
   const Exec& exec = test::exec();
-  const Index n = 1000;
-  const std::vector<float> x = random_vector(n, 1), y0 = random_vector(n, 2);
-  const DeviceBuffer<float> x_buffer = DeviceBuffer<float>::from_host(exec.backend, x, exec.stream);
-  DeviceBuffer<float> y = DeviceBuffer<float>::from_host(exec.backend, y0, exec.stream);
+  // Less than one CUDA tile (four elements a thread, 256 threads), and whole tiles with a partial one.
+  for (const Index n : {Index(1000), Index(5003)}) {
+    const std::vector<float> x = random_vector(n, 1), y0 = random_vector(n, 2);
+    const DeviceBuffer<float> x_buffer = DeviceBuffer<float>::from_host(exec.backend, x, exec.stream);
+    DeviceBuffer<float> y = DeviceBuffer<float>::from_host(exec.backend, y0, exec.stream);
 
-  axpy(exec, 0.5f, x_buffer.span(), y.span());
-  std::vector<float> result = y.to_host(exec.stream);
-  for (Index k = 0; k < n; ++k) EXPECT_EQ(result[k], y0[k] + 0.5f * x[k]);
+    axpy(exec, 0.5f, x_buffer.span(), y.span());
+    std::vector<float> result = y.to_host(exec.stream);
+    for (Index k = 0; k < n; ++k) ASSERT_EQ(result[k], y0[k] + 0.5f * x[k]) << k << " of " << n;
 
-  y.copy_from_host(Span<const float>(y0.data(), n), exec.stream);
-  xpby(exec, x_buffer.span(), -2.0f, y.span());
-  result = y.to_host(exec.stream);
-  for (Index k = 0; k < n; ++k) EXPECT_EQ(result[k], x[k] + -2.0f * y0[k]);
+    y.copy_from_host(Span<const float>(y0.data(), n), exec.stream);
+    xpby(exec, x_buffer.span(), -2.0f, y.span());
+    result = y.to_host(exec.stream);
+    for (Index k = 0; k < n; ++k) ASSERT_EQ(result[k], x[k] + -2.0f * y0[k]) << k << " of " << n;
+  }
 }
 
 TEST(VectorOps, DotIsAccurateAndIndependentOfTheThreadCount) {
