@@ -38,9 +38,23 @@ void for_each_cpu(const Exec& exec, Index n, const F& functor) {
   for (Index i = 0; i < n; ++i) functor(i);
 }
 
-// Threads per block for element-wise launches: a multiple of the warp size that keeps occupancy
-// high on sm_80/sm_90 for register-light functors.
+// Threads per block for element-wise launches that take several elements a thread or loop over a bound: a
+// multiple of the warp size that keeps occupancy high on sm_80/sm_90 for register-light functors.
 inline constexpr int kForEachBlockSize = 256;
+// for_each's default block size: the occupancy calculator's for the functor's kernel (block_size_for).
+inline constexpr int kOccupancyBlockSize = 0;
+
+// Threads per block for n elements of one element a thread: the block size at which the kernel reaches its highest
+// occupancy (`occupancy_best`, from its registers), made smaller when n is too few to give each of the device's
+// `multiprocessors` a block (a thousand particles in blocks of 256 would run on 4 SMs of 132), never below a warp.
+// Why not 256 for all: at 96 registers a thread, blocks of 256 leave an SM 16 warps, blocks of 224 or 672 leave
+// it 21 (bench/results/gpu-notes.md).
+inline int block_size_for(Index n, int occupancy_best, int multiprocessors) {
+  constexpr int kWarp = 32;
+  const Index per_multiprocessor = (n + multiprocessors - 1) / std::max(multiprocessors, 1);
+  const Index spread = per_multiprocessor / kWarp * kWarp;  // whole warps, rounded down: no SM left without a block
+  return int(std::max<Index>(kWarp, std::min<Index>(occupancy_best, spread)));
+}
 
 // The elements one CUDA thread of a for_each launch takes: F::kItemsPerThread where the functor declares it, else 1.
 // A light, memory-bound functor (a copy) loads one value and waits for it before its store: with one load in
@@ -94,13 +108,42 @@ __global__ void for_each_kernel(Index n, F functor) {
   }
 }
 
+// The current device's multiprocessors (asked once).
+inline int multiprocessor_count() {
+  static const int count = [] {
+    int device = 0, multiprocessors = 0;
+    ROMP_CUDA_CHECK(cudaGetDevice(&device));
+    ROMP_CUDA_CHECK(cudaDeviceGetAttribute(&multiprocessors, cudaDevAttrMultiProcessorCount, device));
+    return std::max(multiprocessors, 1);
+  }();
+  return count;
+}
+
+// The block size at which F's one-element kernel reaches its highest occupancy, asked of the occupancy calculator
+// once per functor type.
+template <class F>
+int occupancy_block_size() {
+  static const int block = [] {
+    int min_grid = 0, best = 0;
+    ROMP_CUDA_CHECK(
+        cudaOccupancyMaxPotentialBlockSize(&min_grid, &best, for_each_kernel<kForEachBlockSize, 1, F>, 0, 0));
+    return std::max(best, 32);
+  }();
+  return block;
+}
+
 template <int kBlockSize, class F>
 void for_each_cuda(const Exec& exec, Index n, const F& functor) {
   constexpr int kItems = kItemsPerThread<F>;
   static_assert(kItems >= 1, "a functor's kItemsPerThread is at least 1");
-  const Index blocks = tile_count(n, kBlockSize, kItems);
+  // Tiles of several elements a thread index by a block size fixed at compile time.
+  constexpr int kFixedBlock = kBlockSize == kOccupancyBlockSize ? kForEachBlockSize : kBlockSize;
+  constexpr bool kOccupancy = kBlockSize == kOccupancyBlockSize && kItems == 1;
+  int block = kFixedBlock;
+  if constexpr (kOccupancy) block = block_size_for(n, occupancy_block_size<F>(), multiprocessor_count());
+  const Index blocks = tile_count(n, block, kItems);
   ROMP_CHECK(blocks <= INT_MAX, "for_each: " + std::to_string(n) + " elements exceed one CUDA launch");
-  for_each_kernel<kBlockSize, kItems><<<unsigned(blocks), kBlockSize, 0, exec.stream>>>(n, functor);
+  for_each_kernel<kFixedBlock, kItems><<<unsigned(blocks), unsigned(block), 0, exec.stream>>>(n, functor);
   check_launch(exec);
 }
 
@@ -119,11 +162,9 @@ __global__ void for_each_bounded_kernel(Index bound, const std::int64_t* count, 
 template <int kBlockSize, class Kernel>
 int resident_blocks(Kernel kernel) {
   static const int blocks = [kernel] {
-    int per_multiprocessor = 0, device = 0, multiprocessors = 0;
+    int per_multiprocessor = 0;
     ROMP_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_multiprocessor, kernel, kBlockSize, 0));
-    ROMP_CUDA_CHECK(cudaGetDevice(&device));
-    ROMP_CUDA_CHECK(cudaDeviceGetAttribute(&multiprocessors, cudaDevAttrMultiProcessorCount, device));
-    return std::max(per_multiprocessor, 1) * std::max(multiprocessors, 1);
+    return std::max(per_multiprocessor, 1) * multiprocessor_count();
   }();
   return blocks;
 }
@@ -184,9 +225,9 @@ void launch(const Exec& exec, Index n, Span<const std::int64_t> count, const F& 
 }  // namespace detail
 
 // One launch (memory::traffic().launches counts it) of functor(i) for i in [0, n). kBlockSize: threads per
-// CUDA block. Heavy functors on few elements (a neural law on a thousand particles: four blocks of 256 would
-// keep four SMs busy) spread over more SMs in smaller blocks; light streaming ones declare kItemsPerThread.
-template <int kBlockSize = detail::kForEachBlockSize, class F>
+// CUDA block; by default the occupancy calculator's for the functor, smaller where n is too few to reach every SM
+// (detail::block_size_for). Light streaming functors declare kItemsPerThread (blocks of 256 then).
+template <int kBlockSize = detail::kOccupancyBlockSize, class F>
 void for_each(const Exec& exec, Index n, const F& functor) {
   detail::launch<detail::Cover::Each, kBlockSize>(exec, n, {}, functor);
 }

@@ -1,6 +1,7 @@
 // romp::for_each visits every index exactly once, on the backend the test binary was started with.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -67,6 +68,23 @@ TEST(ForEach, TilesOfSeveralElementsAThreadCoverEachElementOnce) {
           }
       for (Index i = 0; i < n; ++i) ASSERT_EQ(visits[std::size_t(i)], 1) << "index " << i << " of " << n;
     }
+  }
+}
+
+// for_each's default CUDA block: the occupancy calculator's, unless the elements are too few to give every SM a
+// block; whole warps, at least one.
+TEST(ForEach, BlockSizeReachesEverySmBeforeTheOccupancyOptimum) {
+  constexpr int kSms = 132;
+  EXPECT_EQ(detail::block_size_for(1000000, 672, kSms), 672);  // enough elements: the optimum
+  EXPECT_EQ(detail::block_size_for(1000, 672, kSms), 32);      // ⌈1000 / 132⌉ = 8: one warp a block, 32 SMs busy
+  EXPECT_EQ(detail::block_size_for(13200, 672, kSms), 96);     // 100 an SM, rounded down to whole warps
+  EXPECT_EQ(detail::block_size_for(13200, 64, kSms), 64);      // never above the optimum
+  EXPECT_EQ(detail::block_size_for(1, 1024, kSms), 32);        // never below a warp
+  // Every SM gets a block whenever the elements allow one a warp.
+  for (const Index n : {Index(4225), Index(50000), Index(99999)}) {
+    const int block = detail::block_size_for(n, 1024, kSms);
+    EXPECT_EQ(block % 32, 0);
+    EXPECT_GE((n + block - 1) / block, std::min<Index>(kSms, (n + 31) / 32)) << n;
   }
 }
 
