@@ -44,6 +44,12 @@ inline constexpr int kForEachBlockSize = 256;
 // for_each's default block size: the occupancy calculator's for the functor's kernel (block_size_for).
 inline constexpr int kOccupancyBlockSize = 0;
 
+// ROMP_FOR_EACH_BLOCK_SIZE, read once: 0 (unset) lets block_size_for choose; a multiple of 32 in [32, 1024] fixes the
+// block size of every one-element launch that names none (an A/B against the calculator's, tools/device_run.sh).
+// parse_block_size throws romp::Error on any other value, naming the variable and the allowed range.
+int parse_block_size(const char* value);
+int forced_block_size();
+
 // Threads per block for n elements of one element a thread: the block size at which the kernel reaches its highest
 // occupancy (`occupancy_best`, from its registers), made smaller when n is too few to give each of the device's
 // `multiprocessors` a block (a thousand particles in blocks of 256 would run on 4 SMs of 132), never below a warp.
@@ -140,7 +146,10 @@ void for_each_cuda(const Exec& exec, Index n, const F& functor) {
   constexpr int kFixedBlock = kBlockSize == kOccupancyBlockSize ? kForEachBlockSize : kBlockSize;
   constexpr bool kOccupancy = kBlockSize == kOccupancyBlockSize && kItems == 1;
   int block = kFixedBlock;
-  if constexpr (kOccupancy) block = block_size_for(n, occupancy_block_size<F>(), multiprocessor_count());
+  if constexpr (kOccupancy) {
+    const int forced = forced_block_size();
+    block = forced > 0 ? forced : block_size_for(n, occupancy_block_size<F>(), multiprocessor_count());
+  }
   const Index blocks = tile_count(n, block, kItems);
   ROMP_CHECK(blocks <= INT_MAX, "for_each: " + std::to_string(n) + " elements exceed one CUDA launch");
   for_each_kernel<kFixedBlock, kItems><<<unsigned(blocks), unsigned(block), 0, exec.stream>>>(n, functor);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "kernels/core/device_buffer.h"
@@ -85,6 +86,24 @@ TEST(ForEach, BlockSizeReachesEverySmBeforeTheOccupancyOptimum) {
     const int block = detail::block_size_for(n, 1024, kSms);
     EXPECT_EQ(block % 32, 0);
     EXPECT_GE((n + block - 1) / block, std::min<Index>(kSms, (n + 31) / 32)) << n;
+  }
+}
+
+// The environment's fixed block size: empty or 0 leaves the choice to block_size_for; anything but whole warps up
+// to 1024 is refused with the variable's name.
+TEST(ForEach, BlockSizeFromTheEnvironmentIsWholeWarpsOrRefused) {
+  EXPECT_EQ(detail::parse_block_size(nullptr), 0);
+  EXPECT_EQ(detail::parse_block_size(""), 0);
+  EXPECT_EQ(detail::parse_block_size("0"), 0);
+  EXPECT_EQ(detail::parse_block_size("256"), 256);
+  EXPECT_EQ(detail::parse_block_size("1024"), 1024);
+  for (const char* bad : {"16", "100", "2048", "-32", "256 ", "many"}) {
+    try {
+      detail::parse_block_size(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const Error& error) {
+      EXPECT_NE(std::string(error.what()).find("ROMP_FOR_EACH_BLOCK_SIZE"), std::string::npos) << error.what();
+    }
   }
 }
 
