@@ -114,9 +114,23 @@ __global__ void for_each_kernel(Index n, F functor) {
   }
 }
 
+// While it lives, this thread may make calls a stream capture would otherwise refuse (the launch shape's device
+// queries below run at a kernel's first launch, which may fall inside a capture of a frame's substeps).
+class RelaxedCapture {
+ public:
+  RelaxedCapture() { ROMP_CUDA_CHECK(cudaThreadExchangeStreamCaptureMode(&mode_)); }
+  ~RelaxedCapture() { cudaThreadExchangeStreamCaptureMode(&mode_); }
+  RelaxedCapture(const RelaxedCapture&) = delete;
+  RelaxedCapture& operator=(const RelaxedCapture&) = delete;
+
+ private:
+  cudaStreamCaptureMode mode_ = cudaStreamCaptureModeRelaxed;
+};
+
 // The current device's multiprocessors (asked once).
 inline int multiprocessor_count() {
   static const int count = [] {
+    const RelaxedCapture relaxed;
     int device = 0, multiprocessors = 0;
     ROMP_CUDA_CHECK(cudaGetDevice(&device));
     ROMP_CUDA_CHECK(cudaDeviceGetAttribute(&multiprocessors, cudaDevAttrMultiProcessorCount, device));
@@ -130,6 +144,7 @@ inline int multiprocessor_count() {
 template <class F>
 int occupancy_block_size() {
   static const int block = [] {
+    const RelaxedCapture relaxed;
     int min_grid = 0, best = 0;
     ROMP_CUDA_CHECK(
         cudaOccupancyMaxPotentialBlockSize(&min_grid, &best, for_each_kernel<kForEachBlockSize, 1, F>, 0, 0));
@@ -171,6 +186,7 @@ __global__ void for_each_bounded_kernel(Index bound, const std::int64_t* count, 
 template <int kBlockSize, class Kernel>
 int resident_blocks(Kernel kernel) {
   static const int blocks = [kernel] {
+    const RelaxedCapture relaxed;
     int per_multiprocessor = 0;
     ROMP_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_multiprocessor, kernel, kBlockSize, 0));
     return std::max(per_multiprocessor, 1) * multiprocessor_count();
