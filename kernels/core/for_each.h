@@ -45,7 +45,8 @@ inline constexpr int kForEachBlockSize = 256;
 inline constexpr int kOccupancyBlockSize = 0;
 
 // ROMP_FOR_EACH_BLOCK_SIZE, read once: 0 (unset) lets block_size_for choose; a multiple of 32 in [32, 1024] fixes the
-// block size of every one-element launch that names none (an A/B against the calculator's, tools/device_run.sh).
+// block size of every one-element launch that names none, or the largest a kernel's registers allow where that is
+// less (an A/B against the calculator's, tools/device_run.sh).
 // parse_block_size throws romp::Error on any other value, naming the variable and the allowed range.
 int parse_block_size(const char* value);
 int forced_block_size();
@@ -139,18 +140,24 @@ inline int multiprocessor_count() {
   return count;
 }
 
-// The block size at which F's one-element kernel reaches its highest occupancy, asked of the occupancy calculator
-// once per functor type.
+// F's one-element kernel: the block size at which it reaches its highest occupancy, and the largest it can launch
+// (its registers allow), asked of the occupancy calculator once per functor type.
+struct BlockSizes {
+  int best = 32;
+  int most = 32;
+};
 template <class F>
-int occupancy_block_size() {
-  static const int block = [] {
+BlockSizes block_sizes() {
+  static const BlockSizes sizes = [] {
     const RelaxedCapture relaxed;
+    const auto kernel = for_each_kernel<kForEachBlockSize, 1, F>;
     int min_grid = 0, best = 0;
-    ROMP_CUDA_CHECK(
-        cudaOccupancyMaxPotentialBlockSize(&min_grid, &best, for_each_kernel<kForEachBlockSize, 1, F>, 0, 0));
-    return std::max(best, 32);
+    ROMP_CUDA_CHECK(cudaOccupancyMaxPotentialBlockSize(&min_grid, &best, kernel, 0, 0));
+    cudaFuncAttributes attributes{};
+    ROMP_CUDA_CHECK(cudaFuncGetAttributes(&attributes, kernel));
+    return BlockSizes{std::max(best, 32), std::max(attributes.maxThreadsPerBlock / 32 * 32, 32)};
   }();
-  return block;
+  return sizes;
 }
 
 template <int kBlockSize, class F>
@@ -162,8 +169,9 @@ void for_each_cuda(const Exec& exec, Index n, const F& functor) {
   constexpr bool kOccupancy = kBlockSize == kOccupancyBlockSize && kItems == 1;
   int block = kFixedBlock;
   if constexpr (kOccupancy) {
-    const int forced = forced_block_size();
-    block = forced > 0 ? forced : block_size_for(n, occupancy_block_size<F>(), multiprocessor_count());
+    const BlockSizes sizes = block_sizes<F>();
+    const int forced = forced_block_size();  // at most what the kernel's registers allow
+    block = forced > 0 ? std::min(forced, sizes.most) : block_size_for(n, sizes.best, multiprocessor_count());
   }
   const Index blocks = tile_count(n, block, kItems);
   ROMP_CHECK(blocks <= INT_MAX, "for_each: " + std::to_string(n) + " elements exceed one CUDA launch");
