@@ -104,11 +104,11 @@ if [ -x "$bench" ]; then
   b() { local name=$1 limit=$2; shift 2; stage "bench_$name" "$limit" "$bench" --device cuda --out "$records" --name "$name" "$@"; }
   b mem_svd 40 --suite memory --suite svd --repeats 10 --warmup 2
   b step4 120 --suite step --scale 4 --repeats 5 --warmup 1
+  # Scenes of 1k and 4k particles a frame at a time, batches as graphs and launched (the 50 µs target).
+  quote bench_step4 "_frames|us_per_substep" 12
   # The same with every one-element launch in blocks of 256, as before the occupancy calculator chose them
   # (gpu-notes.md, "Loads in flight"): the block size's A/B on one machine.
   ROMP_FOR_EACH_BLOCK_SIZE=256 b step4_block256 90 --suite step --scale 4 --repeats 3 --warmup 1
-  # Scenes of 1k and 4k particles a frame at a time, batches as graphs and launched (the 50 µs target).
-  quote bench_step4 "_frames|us_per_substep" 12
   b mlp 40 --suite mlp --repeats 10 --warmup 2
   b rom_cost_tower 90 --suite rom-cost --scene "$root/scenes/rom/tower.toml" --set dx=0.0048 \
     --rom-samples 10 --rom-samples 50 --repeats 3 --warmup 1

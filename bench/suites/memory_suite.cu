@@ -30,8 +30,8 @@ struct StreamingCopyKernel {
   ROMP_HD void operator()(Index i) const { destination[i] = read_only(source, i); }
 };
 
-// The particles' planes after a sort: kParticlePlanes float planes gathered through an order (here the identity,
-// as after a sort that moved no particle), the full-order step's permutation (GatherParticle's float half).
+// The particles' float planes after a sort: kParticlePlanes planes gathered through an order (here the identity, as
+// after a sort that moved no particle) by gather_arrays, whose row loop (copy_row) the sort's GatherParticle shares.
 constexpr int kParticlePlanes = 26;
 
 std::string place(const Exec& exec) { return exec.is_cuda() ? "cuda" : "cpu_threads=" + std::to_string(exec.threads); }
